@@ -1,0 +1,147 @@
+// softmc command line: run, check, config.
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <fmt/format.h>
+#include <iostream>
+
+#include "machine/config.hpp"
+#include "program/iso/parser.hpp"
+#include "report/plot.hpp"
+#include "report/summary.hpp"
+#include "simulation.hpp"
+
+namespace {
+
+using namespace softmc;
+
+struct MachineArgs {
+  std::string file;
+  std::vector<std::string> overrides;
+
+  void add_to(CLI::App* cmd) {
+    cmd->add_option("--machine", file, "machine configuration (TOML); default: the built-in cutting table");
+    cmd->add_option("--set", overrides, "override one configuration key, e.g. --set axes.x.max_vel_mm_s=100")
+        ->type_name("KEY=VALUE");
+  }
+  machine::MachineConfig load() const {
+    auto cfg = file.empty() ? machine::default_machine() : machine::load_machine(file);
+    for (const auto& o : overrides) machine::apply_override(cfg, o);
+    machine::validate(cfg);
+    return cfg;
+  }
+};
+
+// Parses a program; prints each diagnostic on stderr. Returns nothing on any error.
+std::optional<program::Program> load_program(const std::string& path, const machine::MachineConfig& cfg) {
+  program::iso::ParseOptions opt;
+  (void)cfg;
+  auto r = program::iso::parse_file(path, opt);
+  for (const auto& d : r.diagnostics) std::cerr << d.format() << '\n';
+  return std::move(r.program);
+}
+
+class ProgressBar {
+ public:
+  explicit ProgressBar(bool enabled) : enabled_(enabled) {}
+  void operator()(double f) {
+    if (!enabled_) return;
+    const int pct = static_cast<int>(f * 100.0 + 0.5);
+    if (pct == last_) return;
+    last_ = pct;
+    constexpr int kWidth = 40;
+    const int fill = pct * kWidth / 100;
+    std::fprintf(stderr, "\rsimulating [%s%s] %3d%%", std::string(fill, '#').c_str(),
+                 std::string(kWidth - fill, '.').c_str(), pct);
+    if (pct >= 100) std::fputc('\n', stderr);
+    std::fflush(stderr);
+  }
+
+ private:
+  bool enabled_;
+  int last_ = -1;
+};
+
+int cmd_run(const std::string& path, const MachineArgs& margs, const std::string& plot, const std::string& trace_csv,
+            bool json) {
+  const auto cfg = margs.load();
+  const auto prog = load_program(path, cfg);
+  if (!prog) return 1;
+  app::SimOptions opt;
+  ProgressBar bar(!json);
+  opt.on_progress = [&](double f) { bar(f); };
+  const auto res = app::simulate(*prog, cfg, opt);
+  auto summary = report::summarize(*prog, cfg, res.trace);
+  summary.program = path;
+  summary.machine = margs.file.empty() ? cfg.name + " (built-in)" : margs.file;
+  summary.result = res.result;
+  if (!trace_csv.empty()) report::write_trace_csv(trace_csv, res.trace);
+  if (!plot.empty()) report::write_plot(plot, *prog, cfg, res.trace);
+  if (json) {
+    std::cout << report::to_json(summary) << '\n';
+  } else {
+    std::cout << report::to_text(summary);
+    if (!trace_csv.empty()) std::cout << "trace        " << trace_csv << '\n';
+    if (!plot.empty()) std::cout << "plot         " << plot << '\n';
+  }
+  if (!res.ok) std::cerr << "softmc: run stopped: " << res.result << '\n';
+  return res.ok ? 0 : 2;
+}
+
+int cmd_check(const std::vector<std::string>& paths, const MachineArgs& margs) {
+  const auto cfg = margs.load();
+  int rc = 0;
+  for (const auto& p : paths)
+    if (!load_program(p, cfg)) rc = 1;
+  return rc;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"softmc: a software motion controller"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "softmc 0.1.0");
+
+  MachineArgs run_m, check_m, config_m;
+  std::string run_prog, plot, trace_csv;
+  bool json = false;
+  auto* run = app.add_subcommand("run", "simulate a program on the machine in virtual time and report");
+  run->add_option("program", run_prog, "part program (.ngc)")->required()->check(CLI::ExistingFile);
+  run_m.add_to(run);
+  run->add_option("--plot", plot, "write a plot (.svg or .png)");
+  run->add_option("--trace", trace_csv, "write one CSV row per cycle");
+  run->add_flag("--json", json, "print the summary as one JSON object");
+
+  std::vector<std::string> check_progs;
+  auto* check = app.add_subcommand("check", "parse and validate programs without moving anything");
+  check->add_option("programs", check_progs, "part programs")->required();
+  check_m.add_to(check);
+
+  auto* config = app.add_subcommand("config", "print the effective machine configuration as TOML");
+  config_m.add_to(config);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+
+  try {
+    if (*run) return cmd_run(run_prog, run_m, plot, trace_csv, json);
+    if (*check) return cmd_check(check_progs, check_m);
+    if (*config) {
+      std::cout << machine::to_toml(config_m.load());
+      return 0;
+    }
+  } catch (const machine::ConfigError& e) {
+    std::cerr << e.what() << '\n';
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "softmc: " << e.what() << '\n';
+    return 1;
+  }
+  return 0;
+}

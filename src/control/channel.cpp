@@ -1,0 +1,98 @@
+// Instruction sequencing of a Channel.
+#include "control/channel.hpp"
+
+#include "control/path.hpp"
+
+namespace softmc::control {
+
+const char* to_string(ChannelState s) {
+  switch (s) {
+    case ChannelState::Idle: return "idle";
+    case ChannelState::Running: return "running";
+    case ChannelState::Finished: return "finished";
+    case ChannelState::Fault: return "fault";
+  }
+  return "?";
+}
+
+void Channel::load(const program::Program& prog) {
+  prog_ = &prog;
+  state_ = ChannelState::Idle;
+  pc_ = 0;
+}
+
+// rt-safe
+bool Channel::start(const core::Vec& from) {
+  if (!prog_ || state_ == ChannelState::Running || state_ == ChannelState::Fault) return false;
+  pc_ = 0;
+  plan_pos_ = from;
+  dwell_left_s_ = 0;
+  state_ = ChannelState::Running;
+  return true;
+}
+
+// rt-safe
+void Channel::fail(const char* message, motion::PlanResult r) {
+  state_ = ChannelState::Fault;
+  fault_ = message;
+  plan_error_ = r;
+  fault_pc_ = pc_;
+}
+
+// rt-safe
+void Channel::fault(const char* message) {
+  if (state_ == ChannelState::Fault) return;
+  fail(message, motion::PlanResult::Ok);
+  fault_pc_ = interp_.setpoint().tag;  // the instruction being executed, not the next one planned
+}
+
+// rt-safe
+void Channel::update(double dt_s) {
+  if (state_ != ChannelState::Running) return;
+  if (dwell_left_s_ > 0) {
+    dwell_left_s_ -= dt_s;
+    if (dwell_left_s_ > 1e-12) return;
+    dwell_left_s_ = 0;
+  }
+  const auto& ins = prog_->instructions;
+  for (int budget = kMaxInstructionsPerCycle; budget > 0 && pc_ < ins.size(); --budget) {
+    const program::Op& op = ins[pc_].op;
+    if (auto seg = to_segment(op, plan_pos_)) {
+      if (planner_.queue().full()) return;  // wait for room
+      motion::PathRequest req;
+      req.geom = *seg;
+      req.rapid = std::holds_alternative<program::Rapid>(op);
+      if (const auto* l = std::get_if<program::Linear>(&op)) req.feed_mm_s = l->feed_mm_s;
+      if (const auto* a = std::get_if<program::Arc>(&op)) req.feed_mm_s = a->feed_mm_s;
+      req.tag = pc_;
+      const auto r = planner_.push(req);
+      if (r != motion::PlanResult::Ok) return fail(motion::to_string(r), r);
+      plan_pos_ = seg->end;
+      ++pc_;
+      continue;
+    }
+    // Non-motion instructions act when the motion before them has finished.
+    if (!interp_.idle()) return;
+    if (const auto* d = std::get_if<program::Dwell>(&op)) {
+      ++pc_;
+      if (d->seconds > 0) {
+        dwell_left_s_ = d->seconds;
+        return;
+      }
+    } else if (const auto* t = std::get_if<program::ToolSwitch>(&op)) {
+      tool_on_ = t->on;
+      ++pc_;
+    } else if (const auto* m = std::get_if<program::MFunction>(&op)) {
+      last_m_ = m->number;
+      ++pc_;
+    } else if (std::holds_alternative<program::ProgramEnd>(op)) {
+      tool_on_ = false;  // program end switches the tool off (RS274: M2/M30 imply M5)
+      pc_ = static_cast<std::uint32_t>(ins.size());
+    } else {
+      ++pc_;
+    }
+  }
+  if (pc_ >= ins.size() && interp_.idle() && dwell_left_s_ <= 0) state_ = ChannelState::Finished;
+}
+
+}  // namespace softmc::control

@@ -1,0 +1,58 @@
+// A Channel executes one Program: motions go to the planner, everything else waits for the
+// motion before it to finish (exact stop at non-motion instructions, for now).
+#pragma once
+
+#include <cstdint>
+
+#include "motion/interp/interpolator.hpp"
+#include "motion/planner/planner.hpp"
+#include "program/ir/program.hpp"
+
+namespace softmc::control {
+
+enum class ChannelState : std::uint8_t { Idle, Running, Finished, Fault };
+const char* to_string(ChannelState s);
+
+class Channel {
+ public:
+  // Instructions a channel may execute in one cycle: bounds the cycle's work however the program looks.
+  static constexpr int kMaxInstructionsPerCycle = 64;
+
+  Channel(motion::Planner& planner, const motion::Interpolator& interp) : planner_(planner), interp_(interp) {}
+
+  // Not rt: binds a checked program and resets the pointer. The program must outlive the run.
+  void load(const program::Program& prog);
+  // rt-safe: start from the first instruction (Idle or Finished), planning from `from`.
+  bool start(const core::Vec& from);
+  // rt-safe: executes until the program blocks (queue full, waiting for motion, dwell) or the budget ends.
+  void update(double dt_s);
+  // rt-safe: fault from outside (a drive, a switch): the channel stops executing.
+  void fault(const char* message);
+
+  ChannelState state() const { return state_; }
+  std::uint32_t pc() const { return pc_; }          // next instruction to execute
+  bool tool_on() const { return tool_on_; }
+  bool dwelling() const { return dwell_left_s_ > 0; }
+  int last_m() const { return last_m_; }
+  const char* fault_message() const { return fault_; }
+  motion::PlanResult plan_error() const { return plan_error_; }
+  std::uint32_t fault_instruction() const { return fault_pc_; }
+
+ private:
+  void fail(const char* message, motion::PlanResult r);
+
+  motion::Planner& planner_;
+  const motion::Interpolator& interp_;
+  const program::Program* prog_ = nullptr;
+  ChannelState state_ = ChannelState::Idle;
+  std::uint32_t pc_ = 0;
+  core::Vec plan_pos_;  // where the last planned motion ends
+  double dwell_left_s_ = 0;
+  bool tool_on_ = false;
+  int last_m_ = -1;
+  const char* fault_ = "";
+  motion::PlanResult plan_error_ = motion::PlanResult::Ok;
+  std::uint32_t fault_pc_ = 0;
+};
+
+}  // namespace softmc::control

@@ -1,0 +1,53 @@
+// Fixed-capacity FIFO ring, sized once at configuration; push/pop never allocate (rt-safe).
+#pragma once
+
+#include <cassert>
+#include <cstddef>
+#include <vector>
+
+namespace softmc::core {
+
+template <class T>
+class Ring {
+ public:
+  explicit Ring(std::size_t capacity = 0) : buf_(capacity) {}
+
+  // Configuration time only: allocates.
+  void reserve(std::size_t capacity) {
+    buf_.assign(capacity, T{});
+    head_ = size_ = 0;
+  }
+
+  std::size_t capacity() const { return buf_.size(); }
+  std::size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  bool full() const { return size_ == buf_.size(); }
+
+  // rt-safe
+  bool push(const T& x) {
+    if (full()) return false;
+    buf_[(head_ + size_) % buf_.size()] = x;
+    ++size_;
+    return true;
+  }
+  // rt-safe
+  void pop() {
+    assert(size_ > 0);
+    head_ = (head_ + 1) % buf_.size();
+    --size_;
+  }
+  T& front() { return buf_[head_]; }
+  const T& front() const { return buf_[head_]; }
+  // i-th element from the front.
+  T& at(std::size_t i) { return buf_[(head_ + i) % buf_.size()]; }
+  const T& at(std::size_t i) const { return buf_[(head_ + i) % buf_.size()]; }
+  T& back() { return at(size_ - 1); }
+  void clear() { head_ = size_ = 0; }
+
+ private:
+  std::vector<T> buf_;
+  std::size_t head_ = 0;
+  std::size_t size_ = 0;
+};
+
+}  // namespace softmc::core

@@ -1,0 +1,68 @@
+// Machine configuration: axes, drives, switches, interpolation period; loaded from TOML (toml++).
+#pragma once
+
+#include <array>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/axes.hpp"
+#include "motion/limits.hpp"
+
+namespace softmc::machine {
+
+enum class HomeSide : std::uint8_t { Negative, Positive };
+
+struct AxisConfig {
+  std::string name;             // "x", "y", "z", ... (lower case in TOML keys, letter on screen)
+  std::size_t index = 0;        // core::Axis index
+  bool enabled = true;
+  double min_mm = 0, max_mm = 0;      // travel
+  double max_vel_mm_s = 0;
+  double max_acc_mm_s2 = 0;
+  double max_jerk_mm_s3 = 0;          // 0 = no jerk limit
+  double counts_per_rev = 512;        // encoder resolution
+  double mm_per_rev = 65;             // travel per motor revolution
+  double kv_1_s = 30;                 // position-loop gain (velocity per following error)
+  double feedforward = 1.0;           // velocity feed-forward gain, 0..1
+  double drive_tau_s = 0.005;         // first-order motor/drive time constant
+  double ferror_limit_mm = 2.0;       // following error beyond which the machine faults
+  bool limit_switches = true;         // switches at both travel ends
+  double switch_overtravel_mm = 2.0;  // a limit switch sits this far beyond the travel end
+  HomeSide home_side = HomeSide::Negative;
+  double home_backoff_mm = 30.0;
+
+  double mm_per_count() const { return mm_per_rev / counts_per_rev; }
+};
+
+struct MachineConfig {
+  std::string name = "cutting_table";
+  double period_s = 0.001;                 // interpolation period
+  std::vector<AxisConfig> axes;            // the configured axes, in axis order
+  std::string tool_output = "torch";       // name of the tool (torch/spindle) output
+  std::size_t planner_queue = 256;         // timed segments the planner may hold
+
+  const AxisConfig* axis(std::size_t index) const;
+  core::AxisMask axis_mask() const;
+  motion::MachineLimits limits() const;
+};
+
+// The built-in machine: the two-axis cutting table of the thesis (cutting_table.md T-1), plus Z.
+MachineConfig default_machine();
+
+// Parse a TOML document over a base configuration (keys not given keep the base's values).
+// Throws ConfigError naming the key (and file:line:col where toml++ knows it) on bad input.
+struct ConfigError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+MachineConfig load_machine(const std::string& path);                       // file over default_machine()
+MachineConfig parse_machine(const std::string& toml_text, const std::string& source_name);
+// Apply one `key=value` override (e.g. "axes.x.max_vel_mm_s=100"), with the same validation.
+void apply_override(MachineConfig& cfg, const std::string& assignment);
+// The effective configuration as TOML (round-trips through parse_machine).
+std::string to_toml(const MachineConfig& cfg);
+// Checks every value; throws ConfigError naming the first bad key.
+void validate(const MachineConfig& cfg);
+
+}  // namespace softmc::machine

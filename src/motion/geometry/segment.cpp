@@ -1,0 +1,143 @@
+// Line and arc/helix geometry.
+#include "motion/geometry/segment.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace softmc::motion {
+
+Segment make_line(const Vec& start, const Vec& end) {
+  Segment s;
+  s.kind = SegmentKind::Line;
+  s.start = start;
+  s.end = end;
+  s.length = core::distance(start, end);
+  if (s.length > 0) s.dir = (end - start) * (1.0 / s.length);
+  return s;
+}
+
+Segment make_arc(const Vec& start, const Vec& end, std::uint8_t axis0, std::uint8_t axis1, double c0, double c1,
+                 int turns) {
+  constexpr double kTwoPi = 2 * std::numbers::pi;
+  Segment s;
+  s.kind = SegmentKind::Arc;
+  s.start = start;
+  s.end = end;
+  s.axis0 = axis0;
+  s.axis1 = axis1;
+  s.c0 = c0;
+  s.c1 = c1;
+  s.radius = std::hypot(start[axis0] - c0, start[axis1] - c1);
+  s.theta0 = std::atan2(start[axis1] - c1, start[axis0] - c0);
+  const double theta1 = std::atan2(end[axis1] - c1, end[axis0] - c0);
+  const int n = std::abs(turns);
+  if (turns >= 0) {
+    double d = theta1 - s.theta0;
+    while (d <= 1e-12) d += kTwoPi;  // a closed arc is a full circle
+    s.sweep = d + (n - 1) * kTwoPi;
+  } else {
+    double d = theta1 - s.theta0;
+    while (d >= -1e-12) d -= kTwoPi;
+    s.sweep = d - (n - 1) * kTwoPi;
+  }
+  Vec lin = end - start;
+  lin[axis0] = 0;
+  lin[axis1] = 0;
+  const double arc_len = s.radius * std::abs(s.sweep);
+  const double lin_len = core::norm(lin);
+  s.length = std::hypot(arc_len, lin_len);
+  if (s.length > 0) s.linear = lin * (1.0 / s.length);
+  return s;
+}
+
+// rt-safe
+Vec Segment::point(double s) const {
+  if (s <= 0) return start;
+  if (s >= length) return end;
+  if (kind == SegmentKind::Line) return start + dir * s;
+  const double th = theta0 + sweep * (s / length);
+  Vec p = start + linear * s;
+  p[axis0] = c0 + radius * std::cos(th);
+  p[axis1] = c1 + radius * std::sin(th);
+  return p;
+}
+
+// rt-safe
+Vec Segment::tangent(double s) const {
+  if (kind == SegmentKind::Line) return dir;
+  if (length <= 0) return Vec{};
+  const double th = theta0 + sweep * (std::clamp(s, 0.0, length) / length);
+  const double k = radius * sweep / length;  // d(angle·r)/ds, signed
+  Vec t = linear;
+  t[axis0] = -std::sin(th) * k;
+  t[axis1] = std::cos(th) * k;
+  return t;
+}
+
+// rt-safe
+Vec Segment::curvature(double s) const {
+  Vec k{};
+  if (kind == SegmentKind::Line || length <= 0) return k;
+  const double th = theta0 + sweep * (std::clamp(s, 0.0, length) / length);
+  const double w = sweep / length;  // d(angle)/ds
+  k[axis0] = -radius * w * w * std::cos(th);
+  k[axis1] = -radius * w * w * std::sin(th);
+  return k;
+}
+
+double Segment::distance_to(const Vec& p) const {
+  if (kind == SegmentKind::Line) {
+    if (length <= 0) return core::distance(p, start);
+    const double t = std::clamp(core::dot(p - start, dir), 0.0, length);
+    return core::distance(p, start + dir * t);
+  }
+  // Arc/helix: the parameter is found from the in-plane angle, unwrapped to the nearest turn of the
+  // sweep, then refined with a few Newton steps on the squared distance (helix pitch couples them).
+  constexpr double kTwoPi = 2 * std::numbers::pi;
+  const double ang = std::atan2(p[axis1] - c1, p[axis0] - c0);
+  double best = std::min(core::distance(p, start), core::distance(p, end));
+  const double lo = std::min(0.0, sweep), hi = std::max(0.0, sweep);
+  double base = ang - theta0;
+  base -= kTwoPi * std::floor((base - lo) / kTwoPi);  // in [lo, lo + 2π)
+  for (double rel = base; rel <= hi + 1e-12; rel += kTwoPi) {
+    double s = length * (rel / sweep);
+    for (int it = 0; it < 4; ++it) {  // Newton on f(s) = (P(s) - p)·T(s)
+      const Vec d = point(s) - p;
+      const double f = core::dot(d, tangent(s));
+      const double df = 1.0 + core::dot(d, curvature(s));
+      if (std::abs(df) < 1e-12) break;
+      s = std::clamp(s - f / df, 0.0, length);
+    }
+    best = std::min(best, core::distance(p, point(s)));
+  }
+  return best;
+}
+
+// rt-safe
+void Segment::bounds(Vec& lo, Vec& hi) const {
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
+    lo[i] = std::min(start[i], end[i]);
+    hi[i] = std::max(start[i], end[i]);
+  }
+  if (kind != SegmentKind::Arc) return;
+  // The in-plane extremes lie at the quarter angles the sweep passes over.
+  if (std::abs(sweep) >= 2 * std::numbers::pi) {
+    lo[axis0] = std::min(lo[axis0], c0 - radius);
+    hi[axis0] = std::max(hi[axis0], c0 + radius);
+    lo[axis1] = std::min(lo[axis1], c1 - radius);
+    hi[axis1] = std::max(hi[axis1], c1 + radius);
+    return;
+  }
+  const double a0 = std::min(theta0, theta0 + sweep), a1 = std::max(theta0, theta0 + sweep);
+  const double q = std::numbers::pi / 2;
+  for (double k = std::ceil(a0 / q); k * q <= a1; k += 1) {
+    const double x = c0 + radius * std::cos(k * q), y = c1 + radius * std::sin(k * q);
+    lo[axis0] = std::min(lo[axis0], x);
+    hi[axis0] = std::max(hi[axis0], x);
+    lo[axis1] = std::min(lo[axis1], y);
+    hi[axis1] = std::max(hi[axis1], y);
+  }
+}
+
+}  // namespace softmc::motion

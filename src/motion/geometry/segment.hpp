@@ -1,0 +1,59 @@
+// Geometric path segments parameterised by arc length s in [0, length]: lines and arcs/helices.
+//
+//        axis1
+//          ^        end
+//          |      .-'
+//          |   .-'   <- arc: centre c, radius r, start angle th0, signed sweep
+//          |  /          (positive = from axis0 towards axis1)
+//          | c ----> axis0
+//
+// Axes outside the arc's plane move linearly with s (a helix when the normal axis moves).
+// Every query is rt-safe: no allocation, bounded work.
+#pragma once
+
+#include <cstdint>
+
+#include "core/axes.hpp"
+
+namespace softmc::motion {
+
+using core::Vec;
+
+enum class SegmentKind : std::uint8_t { Line, Arc };
+
+struct Segment {
+  SegmentKind kind = SegmentKind::Line;
+  Vec start;        // position at s = 0
+  Vec end;          // position at s = length
+  double length = 0;  // mm (path length in axis space)
+
+  // Line: unit direction (start → end); zero for a zero-length line.
+  Vec dir;
+
+  // Arc: plane axes, centre, radius, start angle and signed sweep (radians); the linear part of
+  // the motion (axes outside the plane) is `end - start` restricted to those axes.
+  std::uint8_t axis0 = 0, axis1 = 1;
+  double c0 = 0, c1 = 0, radius = 0, theta0 = 0, sweep = 0;
+  Vec linear;  // per unit of s: d(pos)/ds for the axes outside the plane
+
+  // Path position at arc length s (clamped to [0, length]).
+  Vec point(double s) const;
+  // Unit tangent at s.
+  Vec tangent(double s) const;
+  // Curvature vector d(tangent)/ds at s (zero for lines); |k| = 1/R for a planar arc.
+  Vec curvature(double s) const;
+  // Distance of p from this segment's curve (for accuracy reports; not rt-critical).
+  double distance_to(const Vec& p) const;
+  // Axis-aligned bounding box of the whole curve (arcs: including their extreme points). rt-safe.
+  void bounds(Vec& lo, Vec& hi) const;
+};
+
+Segment make_line(const Vec& start, const Vec& end);
+
+// Arc from `start` about centre (c0, c1) in plane (axis0, axis1) to `end`, sweeping `turns`
+// revolutions as the IR defines them (sign = direction). The radius is taken at the start point;
+// the end point's angle sets the sweep; out-of-plane axes move linearly.
+Segment make_arc(const Vec& start, const Vec& end, std::uint8_t axis0, std::uint8_t axis1, double c0, double c1,
+                 int turns);
+
+}  // namespace softmc::motion

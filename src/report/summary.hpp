@@ -1,0 +1,45 @@
+// Run summary: the figures `softmc run` prints and its --json contract (docs/cli.md).
+#pragma once
+
+#include <array>
+#include <string>
+
+#include "machine/config.hpp"
+#include "program/ir/program.hpp"
+#include "report/trace.hpp"
+
+namespace softmc::report {
+
+struct AxisSummary {
+  double max_vel_mm_s = 0;            // largest |Δcmd/Δt| in the trace
+  double max_acc_mm_s2 = 0;           // largest |Δ²cmd/Δt²|
+  double max_following_error_mm = 0;  // largest |cmd − act|
+};
+
+struct Summary {
+  std::string program;
+  std::string machine;
+  std::string result = "ok";   // "ok", or the fault that stopped the run
+  double period_s = 0;
+  std::uint64_t cycles = 0;
+  double cycle_time_s = 0;     // program time from start to the end of the last motion/dwell
+  double cut_mm = 0;           // path length of feed moves with the tool on
+  double feed_mm = 0;          // path length of all feed moves
+  double rapid_mm = 0;         // path length of rapid moves
+  double max_path_deviation_mm = 0;  // largest distance of a setpoint from the programmed path
+  double max_following_error_mm = 0;
+  double max_path_speed_mm_s = 0;
+  core::AxisMask axes = 0;
+  std::array<AxisSummary, core::kMaxAxes> axis{};
+};
+
+// Computes every figure from the program (the programmed geometry) and the recorded trace.
+Summary summarize(const program::Program& prog, const machine::MachineConfig& cfg, const Trace& trace);
+
+std::string to_text(const Summary& s);   // short human-readable block
+std::string to_json(const Summary& s);   // one JSON object (nlohmann-json), stable field names
+
+// CSV: t_s, then per configured axis <a>_cmd_mm, <a>_act_mm, <a>_vel_mm_s; then path_v_mm_s, tool.
+void write_trace_csv(const std::string& path, const Trace& trace);
+
+}  // namespace softmc::report

@@ -1,0 +1,30 @@
+// One row per interpolation cycle: what the simulation recorded, for summaries, CSV traces and plots.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/axes.hpp"
+
+namespace softmc::report {
+
+struct TraceRow {
+  double t_s = 0;        // time at the end of the cycle
+  core::Vec cmd;         // commanded (interpolated) position, mm
+  core::Vec act;         // measured (encoder) position, mm
+  core::Vec vel;         // commanded velocity, mm/s
+  double path_v = 0;     // commanded path speed, mm/s
+  std::uint32_t tag = 0; // index of the program instruction being executed
+  bool moving = false;   // a motion segment is being interpolated
+  bool rapid = false;    // ... and it is a rapid
+  bool tool_on = false;  // torch/spindle output
+};
+
+struct Trace {
+  double period_s = 0.001;
+  core::AxisMask axes = 0;  // which axes the machine has
+  std::vector<TraceRow> rows;
+};
+
+}  // namespace softmc::report

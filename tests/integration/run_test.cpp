@@ -1,0 +1,87 @@
+// Whole runs on the built-in cutting table: the thesis parts, from G-code to trace and summary.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "machine/config.hpp"
+#include "program/iso/parser.hpp"
+#include "report/summary.hpp"
+#include "simulation.hpp"
+
+using namespace softmc;
+
+namespace {
+const std::string kSrc = SOFTMC_SOURCE_DIR;
+
+program::Program load(const std::string& rel) {
+  auto r = program::iso::parse_file(kSrc + "/" + rel);
+  for (const auto& d : r.diagnostics) ADD_FAILURE() << d.format();
+  EXPECT_TRUE(r.program);
+  return r.program ? *r.program : program::Program{};
+}
+}  // namespace
+
+TEST(Run, T3_RoundedRectangleEndsWhereItStarted) {
+  const auto cfg = machine::default_machine();
+  const auto prog = load("examples/thesis/rounded_rectangle.ngc");
+  const auto res = app::simulate(prog, cfg);
+  ASSERT_TRUE(res.ok) << res.result;
+  // The cut starts at (20,10) and closes there; the program ends exactly on that point.
+  const auto& last = res.trace.rows.back();
+  EXPECT_EQ(last.cmd[0], 20.0);
+  EXPECT_EQ(last.cmd[1], 10.0);
+  const auto s = report::summarize(prog, cfg, res.trace);
+  // 4 lines of 20 mm and 4 quarter arcs of R10: 80 + 20π mm cut.
+  EXPECT_NEAR(s.cut_mm, 80 + 20 * M_PI, 1e-9);
+  EXPECT_LT(s.max_path_deviation_mm, 1e-9);
+}
+
+TEST(Run, NoAxisExceedsItsLimitsOnAnyThesisPart) {
+  const auto cfg = machine::default_machine();
+  for (const char* f : {"examples/thesis/shield.ngc", "examples/thesis/square.ngc",
+                        "examples/thesis/rounded_rectangle.ngc"}) {
+    const auto prog = load(f);
+    const auto res = app::simulate(prog, cfg);
+    ASSERT_TRUE(res.ok) << f << ": " << res.result;
+    const auto s = report::summarize(prog, cfg, res.trace);
+    for (const auto& a : cfg.axes) {
+      EXPECT_LE(s.axis[a.index].max_vel_mm_s, a.max_vel_mm_s * (1 + 1e-9)) << f << " axis " << a.name;
+      EXPECT_LE(s.axis[a.index].max_acc_mm_s2, a.max_acc_mm_s2 * (1 + 1e-6)) << f << " axis " << a.name;
+      EXPECT_LT(s.axis[a.index].max_following_error_mm, a.ferror_limit_mm) << f;
+    }
+  }
+}
+
+TEST(Run, SimulationIsDeterministicBitForBit) {
+  const auto cfg = machine::default_machine();
+  const auto prog = load("examples/thesis/rounded_rectangle.ngc");
+  const auto a = app::simulate(prog, cfg);
+  const auto b = app::simulate(prog, cfg);
+  ASSERT_EQ(a.trace.rows.size(), b.trace.rows.size());
+  for (std::size_t i = 0; i < a.trace.rows.size(); ++i) {
+    ASSERT_EQ(a.trace.rows[i].cmd, b.trace.rows[i].cmd) << i;
+    ASSERT_EQ(a.trace.rows[i].act, b.trace.rows[i].act) << i;
+  }
+}
+
+TEST(Run, T1_FollowingErrorShowsEncoderQuantisation) {
+  const auto cfg = machine::default_machine();
+  const auto prog = load("examples/thesis/square.ngc");
+  const auto res = app::simulate(prog, cfg);
+  ASSERT_TRUE(res.ok);
+  const double q = 65.0 / 512.0;
+  for (const auto& r : res.trace.rows) {
+    const double c = r.act[0] / q;
+    ASSERT_NEAR(c, std::round(c), 1e-6);  // measured positions are whole encoder counts
+  }
+}
+
+TEST(Run, FollowingErrorBeyondLimitFaultsTheMachine) {
+  auto cfg = machine::default_machine();
+  machine::apply_override(cfg, "axes.x.ferror_limit_mm=0.01");
+  machine::apply_override(cfg, "axes.x.feedforward=0");
+  const auto prog = load("examples/thesis/square.ngc");
+  const auto res = app::simulate(prog, cfg);
+  EXPECT_FALSE(res.ok);
+  EXPECT_NE(res.result.find("following error on X"), std::string::npos) << res.result;
+}

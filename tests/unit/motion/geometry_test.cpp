@@ -1,0 +1,91 @@
+// Lines and arcs: points, tangents, curvature, lengths, bounds, distances.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "motion/geometry/segment.hpp"
+
+using namespace softmc;
+using motion::make_arc;
+using motion::make_line;
+
+namespace {
+core::Vec xy(double x, double y, double z = 0) {
+  core::Vec v;
+  v[0] = x;
+  v[1] = y;
+  v[2] = z;
+  return v;
+}
+}  // namespace
+
+TEST(Geometry, LinePointTangentLength) {
+  const auto s = make_line(xy(0, 0), xy(3, 4));
+  EXPECT_DOUBLE_EQ(s.length, 5.0);
+  EXPECT_EQ(s.point(0), xy(0, 0));
+  EXPECT_EQ(s.point(5), xy(3, 4));
+  EXPECT_NEAR(s.point(2.5)[0], 1.5, 1e-12);
+  EXPECT_NEAR(s.tangent(1)[1], 0.8, 1e-12);
+  EXPECT_DOUBLE_EQ(core::norm(s.curvature(1)), 0.0);
+}
+
+TEST(Geometry, T2_ArcPointsLieOnTheCircle) {
+  // Rounded rectangle's first arc: centre (40,20), from (40,10) sweeping +90° to (50,20).
+  const auto a = make_arc(xy(40, 10), xy(50, 20), 0, 1, 40, 20, 1);
+  EXPECT_NEAR(a.radius, 10, 1e-12);
+  EXPECT_NEAR(a.sweep, std::numbers::pi / 2, 1e-12);
+  EXPECT_NEAR(a.length, 10 * std::numbers::pi / 2, 1e-12);
+  for (int i = 0; i <= 1000; ++i) {
+    const auto p = a.point(a.length * i / 1000.0);
+    EXPECT_NEAR(std::hypot(p[0] - 40, p[1] - 20), 10.0, 1e-9);
+    EXPECT_LE(p[0], 50 + 1e-12);
+    EXPECT_GE(p[0], 40 - 1e-12);
+  }
+  EXPECT_EQ(a.point(a.length), xy(50, 20));
+  // Tangent at the start points +X (counter-clockwise from the bottom of the circle).
+  EXPECT_NEAR(a.tangent(0)[0], 1, 1e-12);
+  // Curvature points to the centre with magnitude 1/R.
+  const auto k = a.curvature(0);
+  EXPECT_NEAR(k[1], 0.1, 1e-12);
+  EXPECT_NEAR(core::norm(k), 0.1, 1e-12);
+}
+
+TEST(Geometry, ClockwiseArcAndFullCircle) {
+  const auto cw = make_arc(xy(10, 0), xy(0, 10), 0, 1, 0, 0, -1);  // the long way round, 270°
+  EXPECT_NEAR(cw.sweep, -1.5 * std::numbers::pi, 1e-12);
+  const auto full = make_arc(xy(10, 0), xy(10, 0), 0, 1, 0, 0, 1);
+  EXPECT_NEAR(full.sweep, 2 * std::numbers::pi, 1e-12);
+  const auto two = make_arc(xy(10, 0), xy(10, 0), 0, 1, 0, 0, -2);
+  EXPECT_NEAR(two.sweep, -4 * std::numbers::pi, 1e-12);
+}
+
+TEST(Geometry, HelixMovesTheNormalAxisLinearly) {
+  const auto h = make_arc(xy(10, 0, 0), xy(10, 0, 5), 0, 1, 0, 0, 1);
+  const double arc = 2 * std::numbers::pi * 10;
+  EXPECT_NEAR(h.length, std::hypot(arc, 5.0), 1e-9);
+  const auto mid = h.point(h.length / 2);
+  EXPECT_NEAR(mid[2], 2.5, 1e-12);
+  EXPECT_NEAR(mid[0], -10, 1e-9);
+  EXPECT_NEAR(core::norm(h.tangent(1.0)), 1.0, 1e-12);
+}
+
+TEST(Geometry, BoundsIncludeArcExtremes) {
+  const auto a = make_arc(xy(10, 0), xy(-10, 0), 0, 1, 0, 0, 1);  // upper half circle
+  core::Vec lo, hi;
+  a.bounds(lo, hi);
+  EXPECT_NEAR(hi[1], 10, 1e-12);
+  EXPECT_NEAR(lo[1], 0, 1e-12);
+  EXPECT_NEAR(lo[0], -10, 1e-12);
+}
+
+TEST(Geometry, DistanceToCurve) {
+  const auto a = make_arc(xy(10, 0), xy(0, 10), 0, 1, 0, 0, 1);
+  EXPECT_NEAR(a.distance_to(xy(0, 10.5)), 0.5, 1e-9);
+  EXPECT_NEAR(a.distance_to(xy(7.0710678118654755 * 0.9, 7.0710678118654755 * 0.9)), 1.0, 1e-9);
+  EXPECT_NEAR(a.distance_to(xy(0, -10)), std::hypot(10.0, 10.0), 1e-9);  // the missing quadrant is far
+  const auto l = make_line(xy(0, 0), xy(10, 0));
+  EXPECT_NEAR(l.distance_to(xy(5, 2)), 2, 1e-12);
+  EXPECT_NEAR(l.distance_to(xy(13, 4)), 5, 1e-12);
+}
