@@ -34,6 +34,7 @@ struct AxisConfig {
   double home_backoff_mm = 30.0;
 
   double mm_per_count() const { return mm_per_rev / counts_per_rev; }
+  friend bool operator==(const AxisConfig&, const AxisConfig&) = default;
 };
 
 struct MachineConfig {
@@ -43,9 +44,11 @@ struct MachineConfig {
   std::string tool_output = "torch";       // name of the tool (torch/spindle) output
   std::size_t planner_queue = 256;         // timed segments the planner may hold
 
+  // Only enabled axes count as the machine's axes: axis() is nullptr for a disabled one.
   const AxisConfig* axis(std::size_t index) const;
   core::AxisMask axis_mask() const;
   motion::MachineLimits limits() const;
+  friend bool operator==(const MachineConfig&, const MachineConfig&) = default;
 };
 
 // The built-in machine: the two-axis cutting table of the thesis (cutting_table.md T-1), plus Z.
@@ -58,7 +61,9 @@ struct ConfigError : std::runtime_error {
 };
 MachineConfig load_machine(const std::string& path);                       // file over default_machine()
 MachineConfig parse_machine(const std::string& toml_text, const std::string& source_name);
-// Apply one `key=value` override (e.g. "axes.x.max_vel_mm_s=100"), with the same validation.
+// Apply one `key=value` override (e.g. "axes.x.max_vel_mm_s=100") through the loader's code path:
+// same keys, types and per-value rules. Rules across keys (min_mm < max_mm, ...) are left to
+// validate(), run once after all overrides, so a sequence of overrides may pass through them.
 void apply_override(MachineConfig& cfg, const std::string& assignment);
 // The effective configuration as TOML (round-trips through parse_machine).
 std::string to_toml(const MachineConfig& cfg);

@@ -1,0 +1,136 @@
+// Rules of the configuration keys: single values, then the rules across keys, in one fixed order.
+#include "machine/config_keys.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <type_traits>
+
+#include <fmt/format.h>
+
+namespace softmc::machine {
+
+std::string axis_key(std::size_t index) {
+  return std::string("axes.") + static_cast<char>(core::letter(index) - 'A' + 'a');
+}
+
+std::string_view home_side_name(HomeSide s) { return s == HomeSide::Negative ? "negative" : "positive"; }
+
+std::optional<HomeSide> home_side_from(std::string_view s) {
+  if (s == "negative") return HomeSide::Negative;
+  if (s == "positive") return HomeSide::Positive;
+  return std::nullopt;
+}
+
+// fmt's "{}" is the shortest text that parses back to the same double.
+std::string format_number(double v) { return fmt::format("{}", v); }
+
+std::optional<std::string> rule_violation(ConfigRule rule, double v) {
+  const bool finite = std::isfinite(v);
+  const std::string got = " (got " + format_number(v) + ")";
+  switch (rule) {
+    case ConfigRule::Finite:
+      if (!finite) return "must be a finite number" + got;
+      break;
+    case ConfigRule::Positive:
+      if (!(finite && v > 0)) return "must be > 0" + got;
+      break;
+    case ConfigRule::NonNegative:
+      if (!(finite && v >= 0)) return "must be >= 0" + got;
+      break;
+    case ConfigRule::UnitInterval:
+      if (!(v >= 0 && v <= 1)) return "must be between 0 and 1" + got;
+      break;
+    case ConfigRule::Period:
+      if (!(v >= kMinPeriod_s && v <= kMaxPeriod_s))
+        return fmt::format("must be between {} and {} s{}", kMinPeriod_s, kMaxPeriod_s, got);
+      break;
+    default:
+      break;
+  }
+  return std::nullopt;
+}
+
+std::optional<std::string> rule_violation(ConfigRule rule, std::size_t v) {
+  if (rule == ConfigRule::Queue && (v < kMinQueue || v > kMaxQueue))
+    return fmt::format("must be an integer between {} and {} (got {})", kMinQueue, kMaxQueue, v);
+  return std::nullopt;
+}
+
+std::optional<std::string> rule_violation(ConfigRule rule, const std::string& v) {
+  if (rule == ConfigRule::NonEmpty && v.empty()) return std::string("must not be empty");
+  return std::nullopt;
+}
+
+namespace {
+
+template <class Owner>
+std::optional<std::string> key_violation(const ConfigKey<Owner>& key, const Owner& owner) {
+  return std::visit(
+      [&](auto member) -> std::optional<std::string> {
+        using T = std::remove_cvref_t<decltype(owner.*member)>;
+        if constexpr (std::is_same_v<T, double> || std::is_same_v<T, std::size_t> ||
+                      std::is_same_v<T, std::string>)
+          return rule_violation(key.rule, owner.*member);
+        else
+          return std::nullopt;  // bool, HomeSide: every value the type holds is valid
+      },
+      key.field);
+}
+
+bool wanted(const std::vector<std::string>* only, const std::string& key) {
+  return !only || std::find(only->begin(), only->end(), key) != only->end();
+}
+
+template <class Owner, std::size_t N>
+std::optional<ConfigProblem> check_keys(const std::array<ConfigKey<Owner>, N>& keys, const Owner& owner,
+                                        const std::string& prefix, const std::vector<std::string>* only) {
+  for (const auto& k : keys) {
+    const std::string full = prefix + std::string(k.name);
+    if (!wanted(only, full)) continue;
+    if (auto v = key_violation(k, owner)) return ConfigProblem{{full}, full + " " + *v};
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<ConfigProblem> find_problem(const MachineConfig& cfg, const std::vector<std::string>* only) {
+  if (auto p = check_keys(kMachineKeys, cfg, "", only)) return p;
+
+  if (!only) {
+    std::size_t prev = 0;
+    for (std::size_t i = 0; i < cfg.axes.size(); ++i) {
+      const auto& a = cfg.axes[i];
+      if (a.index >= core::kMaxAxes)
+        return ConfigProblem{{"axes"}, fmt::format("axes: axis index {} is out of range", a.index)};
+      if (a.name != axis_key(a.index).substr(5))
+        return ConfigProblem{{axis_key(a.index), "axes"},
+                             fmt::format("{}: axis name \"{}\" does not match its index", axis_key(a.index), a.name)};
+      if (i > 0 && a.index <= prev)
+        return ConfigProblem{{axis_key(a.index), "axes"},
+                             fmt::format("axes must be in axis order without duplicates ({} after {})",
+                                         axis_key(a.index), axis_key(prev))};
+      prev = a.index;
+    }
+    if (std::none_of(cfg.axes.begin(), cfg.axes.end(), [](const AxisConfig& a) { return a.enabled; }))
+      return ConfigProblem{{"axes"}, "axes: at least one axis must be enabled"};
+  }
+
+  for (const auto& a : cfg.axes) {
+    if (!a.enabled) continue;  // a disabled axis takes no part in anything; checked once enabled
+    const std::string ak = axis_key(a.index);
+    if (auto p = check_keys(kAxisKeys, a, ak + ".", only)) return p;
+    if (only) continue;
+    if (!(a.min_mm < a.max_mm))
+      return ConfigProblem{{ak + ".min_mm", ak + ".max_mm", ak},
+                           fmt::format("{0}.min_mm must be < {0}.max_mm (got {1} >= {2})", ak,
+                                       format_number(a.min_mm), format_number(a.max_mm))};
+    if (!(a.home_backoff_mm < a.max_mm - a.min_mm))
+      return ConfigProblem{{ak + ".home_backoff_mm", ak},
+                           fmt::format("{}.home_backoff_mm must be < the travel max_mm - min_mm (got {} >= {})", ak,
+                                       format_number(a.home_backoff_mm), format_number(a.max_mm - a.min_mm))};
+  }
+  return std::nullopt;
+}
+
+}  // namespace softmc::machine
