@@ -2,15 +2,59 @@
 // wired as cycle functions on a virtual clock; records the trace the reports are made from.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 
+#include "control/channel.hpp"
 #include "machine/config.hpp"
+#include "machine/sim_drive.hpp"
+#include "motion/interp/interpolator.hpp"
+#include "motion/planner/planner.hpp"
 #include "program/ir/program.hpp"
 #include "report/trace.hpp"
+#include "runtime/executor.hpp"
 
 namespace softmc::app {
+
+// One simulated machine running one program. Built (and every buffer sized) in the constructor;
+// `step()` is exactly one interpolation cycle and is rt-safe.
+class Simulation {
+ public:
+  Simulation(const program::Program& prog, const machine::MachineConfig& cfg);
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  // rt-safe: one cycle, read → update → write → supervise.
+  void step() { exec_.step(); }
+
+  bool finished() const { return channel_.state() == control::ChannelState::Finished; }
+  bool faulted() const { return channel_.state() == control::ChannelState::Fault; }
+  std::uint64_t cycle() const { return exec_.clock().cycle; }
+  double time_s() const { return static_cast<double>(exec_.clock().cycle) * cfg_.period_s; }
+  const control::Channel& channel() const { return channel_; }
+  const motion::Setpoint& setpoint() const { return interp_.setpoint(); }
+  const machine::SimDrive* drive(std::size_t axis) const { return drives_[axis].get(); }
+  const runtime::VirtualExecutor& executor() const { return exec_; }
+  // What stopped the run, with the program location ("file:line:col: message").
+  std::string fault_text() const;
+  // The current state as a trace row (not rt: for the recorder).
+  report::TraceRow row() const;
+
+ private:
+  void supervise(const runtime::CycleClock& c);
+
+  const program::Program& prog_;
+  machine::MachineConfig cfg_;
+  motion::Planner planner_;
+  motion::Interpolator interp_;
+  control::Channel channel_;
+  std::array<std::unique_ptr<machine::SimDrive>, core::kMaxAxes> drives_{};
+  runtime::VirtualExecutor exec_;
+  char fault_buf_[256] = {0};
+};
 
 struct SimOptions {
   bool record = true;                        // keep one TraceRow per cycle
@@ -27,8 +71,5 @@ struct SimResult {
 
 // Runs `prog` from its start position to its end on the simulated machine, in virtual time.
 SimResult simulate(const program::Program& prog, const machine::MachineConfig& cfg, const SimOptions& opt = {});
-
-// The cycle order, as documented in docs/code_flow.md (for tests and `softmc run --verbose`).
-std::vector<std::string> cycle_order();
 
 }  // namespace softmc::app

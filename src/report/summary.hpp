@@ -21,13 +21,13 @@ struct Summary {
   std::string machine;
   std::string result = "ok";   // "ok", or the fault that stopped the run
   double period_s = 0;
-  std::uint64_t cycles = 0;
-  double cycle_time_s = 0;     // program time from start to the end of the last motion/dwell
+  std::uint64_t cycles = 0;    // interpolation cycles run: trace rows after the t = 0 row
+  double cycle_time_s = 0;     // t_s of the last row; recording stops one cycle after the program ends
   double cut_mm = 0;           // path length of feed moves with the tool on
   double feed_mm = 0;          // path length of all feed moves
   double rapid_mm = 0;         // path length of rapid moves
   double max_path_deviation_mm = 0;  // largest distance of a setpoint from the programmed path
-  double max_following_error_mm = 0;
+  double max_following_error_mm = 0;  // largest of the axes' following errors
   double max_path_speed_mm_s = 0;
   core::AxisMask axes = 0;
   std::array<AxisSummary, core::kMaxAxes> axis{};

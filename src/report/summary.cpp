@@ -1,0 +1,132 @@
+// Run summary from the trace and the programmed geometry, and its text and JSON forms.
+#include "report/summary.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "report/programmed_path.hpp"
+
+namespace softmc::report {
+
+namespace {
+
+template <typename F>
+void for_each_axis(core::AxisMask mask, F&& f) {
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i)
+    if (mask & core::axis_bit(i)) f(i);
+}
+
+char lower_letter(std::size_t axis) {
+  return static_cast<char>(std::tolower(static_cast<unsigned char>(core::letter(axis))));
+}
+
+}  // namespace
+
+Summary summarize(const program::Program& prog, const machine::MachineConfig& cfg, const Trace& trace) {
+  Summary s;
+  s.program = prog.files.empty() ? std::string{} : prog.files[0];
+  s.machine = cfg.name;
+  s.period_s = trace.period_s;
+  // A row at t = 0 records the state before the first cycle, not a cycle.
+  s.cycles = static_cast<std::uint64_t>(
+      std::count_if(trace.rows.begin(), trace.rows.end(), [](const TraceRow& r) { return r.t_s > 0; }));
+  s.axes = trace.axes;
+  // The simulation records one row per cycle and stops one cycle after the program ends (after its
+  // last motion or dwell), so the last row's time is the program's cycle time.
+  s.cycle_time_s = trace.rows.empty() ? 0.0 : trace.rows.back().t_s;
+
+  // Lengths are the programmed ones: what the part needs, not what the planner made of it.
+  const ProgrammedPath path = programmed_path(prog);
+  for (const auto& m : path.moves) {
+    if (m.kind == MoveKind::Rapid) {
+      s.rapid_mm += m.segment.length;
+    } else {
+      s.feed_mm += m.segment.length;
+      if (m.kind == MoveKind::Cut) s.cut_mm += m.segment.length;
+    }
+  }
+
+  const auto& rows = trace.rows;
+  const double dt = trace.period_s;
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    const TraceRow& row = rows[r];
+    s.max_path_deviation_mm = std::max(s.max_path_deviation_mm, path.deviation_mm(row.cmd, row.tag, row.moving));
+    s.max_path_speed_mm_s = std::max(s.max_path_speed_mm_s, row.path_v);
+    for_each_axis(trace.axes, [&](std::size_t i) {
+      AxisSummary& a = s.axis[i];
+      a.max_following_error_mm = std::max(a.max_following_error_mm, std::abs(row.cmd[i] - row.act[i]));
+      if (dt <= 0) return;
+      // Finite differences of the setpoints: the planner's own velocity is not trusted here.
+      if (r >= 1) a.max_vel_mm_s = std::max(a.max_vel_mm_s, std::abs(row.cmd[i] - rows[r - 1].cmd[i]) / dt);
+      if (r >= 2) {
+        const double d2 = row.cmd[i] - 2 * rows[r - 1].cmd[i] + rows[r - 2].cmd[i];
+        a.max_acc_mm_s2 = std::max(a.max_acc_mm_s2, std::abs(d2) / (dt * dt));
+      }
+    });
+  }
+  for_each_axis(trace.axes, [&](std::size_t i) {
+    s.max_following_error_mm = std::max(s.max_following_error_mm, s.axis[i].max_following_error_mm);
+  });
+  return s;
+}
+
+std::string to_text(const Summary& s) {
+  // Labels are 13 columns wide, as are the lines `softmc run` appends (trace, plot).
+  std::string out;
+  auto line = [&](std::string_view label, const std::string& value) {
+    fmt::format_to(std::back_inserter(out), "{:<13}{}\n", label, value);
+  };
+  line("program", s.program);
+  line("machine", s.machine);
+  line("result", s.result);
+  line("cycle time", fmt::format("{:.3f} s  ({} cycles of {:g} ms)", s.cycle_time_s, s.cycles, s.period_s * 1e3));
+  line("cut", fmt::format("{:.3f} mm", s.cut_mm));
+  line("feed", fmt::format("{:.3f} mm", s.feed_mm));
+  line("rapid", fmt::format("{:.3f} mm", s.rapid_mm));
+  line("path speed", fmt::format("{:.3f} mm/s max", s.max_path_speed_mm_s));
+  line("deviation", fmt::format("{:.6f} mm max (setpoints from the programmed path)", s.max_path_deviation_mm));
+  line("foll. error", fmt::format("{:.6f} mm max", s.max_following_error_mm));
+  fmt::format_to(std::back_inserter(out), "{:<13}{:>14}{:>16}{:>14}\n", "axis", "max vel mm/s", "max acc mm/s²",
+                 "max ferr mm");
+  for_each_axis(s.axes, [&](std::size_t i) {
+    const auto& a = s.axis[i];
+    fmt::format_to(std::back_inserter(out), "  {:<11}{:>14.3f}{:>16.1f}{:>14.6f}\n", core::letter(i), a.max_vel_mm_s,
+                   a.max_acc_mm_s2, a.max_following_error_mm);
+  });
+  return out;
+}
+
+std::string to_json(const Summary& s) {
+  // ordered_json keeps the documented field order (docs/cli.md), so diffs of outputs stay readable.
+  nlohmann::ordered_json j;
+  j["program"] = s.program;
+  j["machine"] = s.machine;
+  j["result"] = s.result;
+  j["period_s"] = s.period_s;
+  j["cycles"] = s.cycles;
+  j["cycle_time_s"] = s.cycle_time_s;
+  j["cut_mm"] = s.cut_mm;
+  j["feed_mm"] = s.feed_mm;
+  j["rapid_mm"] = s.rapid_mm;
+  j["max_path_deviation_mm"] = s.max_path_deviation_mm;
+  j["max_following_error_mm"] = s.max_following_error_mm;
+  j["max_path_speed_mm_s"] = s.max_path_speed_mm_s;
+  nlohmann::ordered_json axes = nlohmann::ordered_json::object();
+  for_each_axis(s.axes, [&](std::size_t i) {
+    const auto& a = s.axis[i];
+    nlohmann::ordered_json ja;
+    ja["max_vel_mm_s"] = a.max_vel_mm_s;
+    ja["max_acc_mm_s2"] = a.max_acc_mm_s2;
+    ja["max_following_error_mm"] = a.max_following_error_mm;
+    axes[std::string(1, lower_letter(i))] = std::move(ja);
+  });
+  j["axes"] = std::move(axes);
+  // A file name or fault text that is not UTF-8 must not make the summary itself fail.
+  return j.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+}
+
+}  // namespace softmc::report

@@ -1,0 +1,235 @@
+// Run summary: programmed lengths, path deviation, per-axis finite differences, text and JSON forms.
+#include "report/summary.hpp"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <numbers>
+
+#include "synthetic_trace.hpp"
+
+using namespace softmc;
+using namespace softmc::report;
+using namespace softmc::report::testing;
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+const double kSqrt2 = std::sqrt(2.0);
+}  // namespace
+
+TEST(Summary, LengthsAreTheProgrammedOnes) {
+  const auto prog = rounded_square();
+  const auto s = summarize(prog, test_table(), sample_program(prog));
+  EXPECT_NEAR(s.cut_mm, 120 + 5 * kPi, 1e-12);
+  EXPECT_NEAR(s.feed_mm, 120 + 5 * kPi + 10 * kSqrt2, 1e-12);
+  EXPECT_NEAR(s.rapid_mm, 30 * kSqrt2, 1e-12);
+}
+
+TEST(Summary, LengthsDoNotDependOnTheTrace) {
+  const auto prog = rounded_square();
+  const auto s = summarize(prog, test_table(), Trace{});
+  EXPECT_NEAR(s.cut_mm, 120 + 5 * kPi, 1e-12);
+  EXPECT_EQ(s.cycles, 0u);
+  EXPECT_EQ(s.cycle_time_s, 0.0);
+}
+
+TEST(Summary, CyclesAndCycleTimeFromTheLastRow) {
+  const auto prog = rounded_square();
+  const auto tr = sample_program(prog);
+  const auto s = summarize(prog, test_table(), tr);
+  EXPECT_EQ(s.cycles, tr.rows.size());
+  EXPECT_DOUBLE_EQ(s.cycle_time_s, tr.rows.back().t_s);
+  EXPECT_DOUBLE_EQ(s.period_s, 0.001);
+  EXPECT_EQ(s.program, "rounded_square.ngc");
+  EXPECT_EQ(s.machine, "test_table");
+  EXPECT_EQ(s.axes, core::axis_bit(0) | core::axis_bit(1));
+}
+
+TEST(Summary, TheInitialStateRowIsNotACycle) {
+  const auto prog = rounded_square();
+  auto tr = sample_program(prog);
+  TraceRow initial;
+  initial.cmd = initial.act = prog.start;
+  tr.rows.insert(tr.rows.begin(), initial);  // t = 0, as the simulation records it
+  const auto s = summarize(prog, test_table(), tr);
+  EXPECT_EQ(s.cycles, tr.rows.size() - 1);
+  EXPECT_DOUBLE_EQ(s.cycle_time_s, s.cycles * 0.001);
+  EXPECT_LT(s.max_path_deviation_mm, 1e-9);
+}
+
+TEST(Summary, DeviationIsZeroOnThePath) {
+  const auto prog = rounded_square();
+  const auto s = summarize(prog, test_table(), sample_program(prog));
+  EXPECT_LT(s.max_path_deviation_mm, 1e-9);
+}
+
+TEST(Summary, DeviationOfOneShiftedSampleOnALine) {
+  const auto prog = rounded_square();
+  auto tr = sample_program(prog);
+  // The middle sample of the top edge (instruction 5, y = 40), pushed 0.1 mm outwards.
+  std::vector<std::size_t> edge;
+  for (std::size_t i = 0; i < tr.rows.size(); ++i)
+    if (tr.rows[i].tag == 5 && tr.rows[i].moving) edge.push_back(i);
+  ASSERT_FALSE(edge.empty());
+  tr.rows[edge[edge.size() / 2]].cmd[1] += 0.1;
+  const auto s = summarize(prog, test_table(), tr);
+  EXPECT_NEAR(s.max_path_deviation_mm, 0.1, 1e-9);
+}
+
+TEST(Summary, DeviationOfOneShiftedSampleOnTheArc) {
+  const auto prog = rounded_square();
+  auto tr = sample_program(prog);
+  std::vector<std::size_t> arc;
+  for (std::size_t i = 0; i < tr.rows.size(); ++i)
+    if (tr.rows[i].tag == 3) arc.push_back(i);
+  ASSERT_FALSE(arc.empty());
+  // Radially inwards by 0.1 mm towards the centre (40, 20).
+  auto& p = tr.rows[arc[arc.size() / 2]].cmd;
+  const double dx = p[0] - 40, dy = p[1] - 20, r = std::hypot(dx, dy);
+  p[0] -= 0.1 * dx / r;
+  p[1] -= 0.1 * dy / r;
+  const auto s = summarize(prog, test_table(), tr);
+  EXPECT_NEAR(s.max_path_deviation_mm, 0.1, 1e-9);
+}
+
+TEST(Summary, DeviationOfTheWholeTraceShifted) {
+  const auto prog = rounded_square();
+  auto tr = sample_program(prog);
+  for (auto& r : tr.rows) r.cmd[1] += 0.1;  // horizontal edges and standstills are off by exactly 0.1
+  const auto s = summarize(prog, test_table(), tr);
+  EXPECT_NEAR(s.max_path_deviation_mm, 0.1, 1e-9);
+}
+
+TEST(Summary, StandstillIsMeasuredFromWhereTheMachineShouldStand) {
+  const auto prog = rounded_square();
+  auto tr = sample_program(prog);
+  for (auto& r : tr.rows)
+    if (r.tag == 9) r.cmd[0] += 0.25;  // creeping during the dwell at (20, 20)
+  const auto s = summarize(prog, test_table(), tr);
+  EXPECT_NEAR(s.max_path_deviation_mm, 0.25, 1e-9);
+}
+
+// x(t) = a·t²/2 sampled at t = k·dt, k = 0..n: the last step has speed a·dt·(n − ½) and every
+// second difference is a·dt².
+TEST(Summary, VelocityAndAccelerationFromAQuadraticMotion) {
+  constexpr double a = 200, dt = 0.001;
+  constexpr int n = 500;
+  program::Program prog;
+  prog.start = xy(0, 5);
+  prog.instructions = {ins(program::Linear{xy(0.5 * a * (n * dt) * (n * dt), 5), 100})};
+  Trace tr;
+  tr.period_s = dt;
+  tr.axes = core::axis_bit(0) | core::axis_bit(1);
+  for (int k = 0; k <= n; ++k) {
+    TraceRow r;
+    r.t_s = k * dt;
+    const double t = k * dt;
+    r.cmd = xy(0.5 * a * t * t, 5);
+    r.act = r.cmd;
+    r.path_v = a * t;
+    r.moving = true;
+    tr.rows.push_back(r);
+  }
+  const auto s = summarize(prog, test_table(), tr);
+  EXPECT_NEAR(s.axis[0].max_vel_mm_s, a * dt * (n - 0.5), 1e-6);
+  EXPECT_NEAR(s.axis[0].max_acc_mm_s2, a, 1e-4);
+  EXPECT_EQ(s.axis[1].max_vel_mm_s, 0.0);
+  EXPECT_EQ(s.axis[1].max_acc_mm_s2, 0.0);
+  EXPECT_NEAR(s.max_path_speed_mm_s, a * n * dt, 1e-9);
+  EXPECT_LT(s.max_path_deviation_mm, 1e-9);
+}
+
+TEST(Summary, FollowingErrorPerAxisAndOverall) {
+  const auto prog = rounded_square();
+  auto tr = sample_program(prog);
+  tr.rows[100].act[0] = tr.rows[100].cmd[0] - 0.05;
+  tr.rows[200].act[1] = tr.rows[200].cmd[1] + 0.2;
+  tr.rows[300].act[2] = tr.rows[300].cmd[2] + 7;  // Z is not in the trace's axes: ignored
+  const auto s = summarize(prog, test_table(), tr);
+  EXPECT_NEAR(s.axis[0].max_following_error_mm, 0.05, 1e-12);
+  EXPECT_NEAR(s.axis[1].max_following_error_mm, 0.2, 1e-12);
+  EXPECT_EQ(s.axis[2].max_following_error_mm, 0.0);
+  EXPECT_NEAR(s.max_following_error_mm, 0.2, 1e-12);
+}
+
+TEST(Summary, FollowingErrorOfALaggingQuantisedDrive) {
+  const auto prog = rounded_square();
+  const auto s =
+      summarize(prog, test_table(), sample_program(prog, {.acc_mm_s2 = 1000, .lag_tau_s = 0.01, .quantum_mm = 0.127}));
+  // Lag v·τ at the 20 mm/s feed is 0.2 mm; rapids at 300 mm/s lag more; quantisation adds ≤ half a count.
+  EXPECT_GT(s.max_following_error_mm, 0.2);
+  EXPECT_LT(s.max_following_error_mm, 300 * 0.01 + 0.0635 + 1e-9);
+  EXPECT_LT(s.max_path_deviation_mm, 1e-9);  // deviation is of the command, not the encoder
+}
+
+TEST(Summary, JsonHasEveryFieldWithItsValue) {
+  const auto prog = rounded_square();
+  auto tr = sample_program(prog);
+  tr.rows[10].act[0] += 0.03;
+  auto s = summarize(prog, test_table(), tr);
+  s.program = "examples/square.ngc";
+  s.machine = "cutting_table (built-in)";
+  const auto j = nlohmann::json::parse(to_json(s));
+  ASSERT_TRUE(j.is_object());
+  for (const char* k : {"program", "machine", "result", "period_s", "cycles", "cycle_time_s", "cut_mm", "feed_mm",
+                        "rapid_mm", "max_path_deviation_mm", "max_following_error_mm", "max_path_speed_mm_s", "axes"})
+    EXPECT_TRUE(j.contains(k)) << k;
+  EXPECT_EQ(j.size(), 13u);
+  EXPECT_EQ(j["program"], "examples/square.ngc");
+  EXPECT_EQ(j["machine"], "cutting_table (built-in)");
+  EXPECT_EQ(j["result"], "ok");
+  EXPECT_TRUE(j["cycles"].is_number_unsigned());
+  EXPECT_EQ(j["cycles"].get<std::uint64_t>(), tr.rows.size());
+  EXPECT_TRUE(j["cut_mm"].is_number_float());
+  EXPECT_DOUBLE_EQ(j["period_s"].get<double>(), s.period_s);
+  EXPECT_DOUBLE_EQ(j["cycle_time_s"].get<double>(), s.cycle_time_s);
+  EXPECT_DOUBLE_EQ(j["cut_mm"].get<double>(), 120 + 5 * kPi);
+  EXPECT_DOUBLE_EQ(j["feed_mm"].get<double>(), s.feed_mm);
+  EXPECT_DOUBLE_EQ(j["rapid_mm"].get<double>(), 30 * kSqrt2);
+  EXPECT_DOUBLE_EQ(j["max_path_deviation_mm"].get<double>(), s.max_path_deviation_mm);
+  EXPECT_DOUBLE_EQ(j["max_following_error_mm"].get<double>(), s.max_following_error_mm);
+  EXPECT_DOUBLE_EQ(j["max_path_speed_mm_s"].get<double>(), s.max_path_speed_mm_s);
+  const auto& axes = j["axes"];
+  ASSERT_TRUE(axes.is_object());
+  EXPECT_EQ(axes.size(), 2u);
+  for (const char* a : {"x", "y"}) {
+    ASSERT_TRUE(axes.contains(a)) << a;
+    const std::size_t i = a[0] == 'x' ? 0 : 1;
+    EXPECT_DOUBLE_EQ(axes[a]["max_vel_mm_s"].get<double>(), s.axis[i].max_vel_mm_s);
+    EXPECT_DOUBLE_EQ(axes[a]["max_acc_mm_s2"].get<double>(), s.axis[i].max_acc_mm_s2);
+    EXPECT_DOUBLE_EQ(axes[a]["max_following_error_mm"].get<double>(), s.axis[i].max_following_error_mm);
+    EXPECT_EQ(axes[a].size(), 3u);
+  }
+  EXPECT_NEAR(axes["x"]["max_following_error_mm"].get<double>(), 0.03, 1e-12);
+}
+
+TEST(Summary, JsonFieldOrderIsTheDocumentedOne) {
+  const std::string js = to_json(Summary{});
+  EXPECT_EQ(js.rfind("{\"program\":", 0), 0u) << js;
+  EXPECT_LT(js.find("\"cycles\""), js.find("\"cut_mm\""));
+  EXPECT_LT(js.find("\"max_path_speed_mm_s\""), js.find("\"axes\""));
+  EXPECT_NE(js.find("\"axes\":{}"), std::string::npos) << js;
+}
+
+TEST(Summary, JsonSurvivesAFaultMessageThatIsNotUtf8) {
+  Summary s;
+  s.result = "bad byte \xff here";
+  nlohmann::json j;
+  EXPECT_NO_THROW(j = nlohmann::json::parse(to_json(s)));
+  EXPECT_TRUE(j["result"].is_string());
+}
+
+TEST(Summary, TextHasTheFiguresAndOneLinePerAxis) {
+  const auto prog = rounded_square();
+  const auto s = summarize(prog, test_table(), sample_program(prog));
+  const std::string t = to_text(s);
+  EXPECT_NE(t.find("cycle time"), std::string::npos) << t;
+  EXPECT_NE(t.find(fmt::format("{:.3f} s", s.cycle_time_s)), std::string::npos) << t;
+  EXPECT_NE(t.find(fmt::format("{:.3f} mm", s.cut_mm)), std::string::npos) << t;
+  EXPECT_NE(t.find("\n  X "), std::string::npos) << t;
+  EXPECT_NE(t.find("\n  Y "), std::string::npos) << t;
+  EXPECT_EQ(t.find("\n  Z "), std::string::npos) << t;
+  EXPECT_EQ(t.back(), '\n');
+}
