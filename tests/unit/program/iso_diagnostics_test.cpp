@@ -1,0 +1,150 @@
+// ISO parser errors: each names file:line:col of the offending word; recovery reports them all.
+#include <gtest/gtest.h>
+
+#include <limits>
+#include <string>
+
+#include "iso_test_util.hpp"
+
+using namespace softmc;
+using namespace softmc::program;
+using namespace softmc::program::iso::test;
+
+TEST(IsoDiagnostics, FeedMissingNamesLineAndColumnOfTheMotionWord) {
+  EXPECT_EQ(one_error("G21 G90\nG0 X1\nG1 X10\n"),
+            "t.ngc:3:1: error: feed rate missing: program an F word before the first feed move");
+  EXPECT_EQ(one_error("N5 G0 X1\nN6 X2 G2 I1\n"),
+            "t.ngc:2:7: error: feed rate missing: program an F word before the first feed move");
+  EXPECT_EQ(one_error("(no feed yet) G1 X1\n"),
+            "t.ngc:1:15: error: feed rate missing: program an F word before the first feed move");
+  EXPECT_EQ(one_error("G0 X1\nG1\n"), "t.ngc:2:1: error: feed rate missing: program an F word before the first feed move");
+}
+
+TEST(IsoDiagnostics, FeedMustBePositive) {
+  EXPECT_EQ(one_error("G1 X1 F0\n"), "t.ngc:1:7: error: feed rate must be greater than zero");
+  EXPECT_EQ(one_error("G1 X1 F-60\n"), "t.ngc:1:7: error: feed rate must be greater than zero");
+}
+
+TEST(IsoDiagnostics, TwoMotionWordsInOneBlock) {
+  EXPECT_EQ(one_error("G0 G1 X1 F60\n"), "t.ngc:1:4: error: two motion codes in one block: G0 and G1");
+  EXPECT_EQ(one_error("G2 X1 G3\n"), "t.ngc:1:7: error: two motion codes in one block: G2 and G3");
+  EXPECT_EQ(one_error("G20 G21\n"), "t.ngc:1:5: error: two units codes in one block: G20 and G21");
+  EXPECT_EQ(one_error("M3 M5\n"), "t.ngc:1:4: error: two spindle codes in one block: M3 and M5");
+}
+
+TEST(IsoDiagnostics, UnknownAndUnsupportedWords) {
+  EXPECT_EQ(one_error("G1 X1 E5 F60\n"), "t.ngc:1:7: error: unknown word letter E");
+  EXPECT_EQ(one_error("G33.1 X1\n"), "t.ngc:1:1: error: unsupported G code G33.1");
+  EXPECT_EQ(one_error("G64\n"), "t.ngc:1:1: error: unsupported G code G64");
+  EXPECT_EQ(one_error("G1.25\n"), "t.ngc:1:1: error: malformed G code G1.25: at most one decimal place");
+  EXPECT_EQ(one_error("M8\n"), "t.ngc:1:1: error: unsupported M code M8");
+  EXPECT_EQ(one_error("M3.5\n"), "t.ngc:1:1: error: malformed M code M3.5: M codes are whole numbers");
+  EXPECT_EQ(one_error("G18\n"), "t.ngc:1:1: error: G18 (XZ plane) is not supported yet: only G17 (XY plane)");
+  EXPECT_EQ(one_error("G19\n"), "t.ngc:1:1: error: G19 (YZ plane) is not supported yet: only G17 (XY plane)");
+  EXPECT_EQ(one_error("S1000\n"), "t.ngc:1:1: error: S words are not supported yet");
+  EXPECT_EQ(one_error("G0 A90\n"), "t.ngc:1:4: error: rotary axis words (A) are not supported yet");
+  EXPECT_EQ(one_error("G2 X1 R5 F60\n"),
+            "t.ngc:1:7: error: R-format arcs are not supported yet: give the arc centre with I and J");
+}
+
+TEST(IsoDiagnostics, MalformedNumberAtTheWord) {
+  EXPECT_EQ(one_error("G0 X1\nG1 Y2.3.4 F60\n"), "t.ngc:2:4: error: malformed number: two decimal points");
+  EXPECT_EQ(one_error("G0 X\n"), "t.ngc:1:4: error: X word has no number");
+  EXPECT_EQ(one_error("G0 X1e999\n"), "t.ngc:1:4: error: number out of range");
+}
+
+TEST(IsoDiagnostics, RepeatedLetterInOneBlock) {
+  EXPECT_EQ(one_error("G0 X1 X2\n"), "t.ngc:1:7: error: two X words in one block");
+  EXPECT_EQ(one_error("G1 X1 F60 F70\n"), "t.ngc:1:11: error: two F words in one block");
+}
+
+TEST(IsoDiagnostics, AxisWordsBeforeAnyMotionMode) {
+  EXPECT_EQ(one_error("G21\n  X10 Y5\n"),
+            "t.ngc:2:3: error: axis words with no motion mode: program G0, G1, G2 or G3 first");
+  EXPECT_EQ(one_error("G0 X1\nG80\nX2\n"),
+            "t.ngc:3:1: error: axis words with no motion mode: program G0, G1, G2 or G3 first");
+}
+
+TEST(IsoDiagnostics, WordsWithNothingToUseThem) {
+  EXPECT_EQ(one_error("G1 X1 I2 F60\n"), "t.ngc:1:7: error: I word with no G2 or G3 to use it");
+  EXPECT_EQ(one_error("G0 X1 J2\n"), "t.ngc:1:7: error: J word with no G2 or G3 to use it");
+  EXPECT_EQ(one_error("G0 X1 P2\n"), "t.ngc:1:7: error: P word with no G4, G2 or G3 to use it");
+  EXPECT_EQ(one_error("G4\n"), "t.ngc:1:1: error: G4 needs a P word: the dwell time in seconds");
+  EXPECT_EQ(one_error("G4 P-1\n"), "t.ngc:1:4: error: dwell time (P) must be 0 or more");
+  EXPECT_EQ(one_error("G0 X1 N5\n"), "t.ngc:1:7: error: line number (N word) must be the first word of the block");
+}
+
+TEST(IsoDiagnostics, ArcErrors) {
+  EXPECT_EQ(one_error("G0 X10\nG3 X0 Y10 F60\n"),
+            "t.ngc:2:1: error: I and J words both missing: give the arc centre with I and/or J");
+  EXPECT_EQ(one_error("G0 X10\nG3 I-10 F60\n"),
+            "t.ngc:2:1: error: X and Y words both missing for an arc in the XY plane (a full circle repeats the end point)");
+  EXPECT_EQ(one_error("G0 X10\nG3 X0 Y10 I0 J0 F60\n"),
+            "t.ngc:2:1: error: zero-radius arc: centre (10.0000, 0.0000) is on the start or end point");
+  EXPECT_EQ(one_error("G0 X10\nG3 X0 Y10 I-10 P0 F60\n"),
+            "t.ngc:2:16: error: arc turns (P) must be a whole number, 1 or more");
+  EXPECT_EQ(one_error("G0 X10\nG3 X0 Y10 I-10 P1.5 F60\n"),
+            "t.ngc:2:16: error: arc turns (P) must be a whole number, 1 or more");
+}
+
+TEST(IsoDiagnostics, ArcEndOffTheCircleIsRefused) {
+  // 0.05 mm off a 10 mm radius: above LinuxCNC's 0.028 mm and above 0.1 % of the radius.
+  EXPECT_EQ(one_error("G0 X10\nG3 X0 Y10.05 I-10 F60\n"),
+            "t.ngc:2:1: error: arc end point is not on the circle: radius 10.0000 mm at the start, 10.0500 mm at "
+            "the end (they differ by 0.05 mm, at most 0.02828 mm allowed)");
+  // Modal arc: the error points at the first axis word.
+  EXPECT_EQ(one_error("G0 X10\nG3 X0 Y10 I-10 F60\n  X-10 Y1 J-10\n").rfind("t.ngc:3:3: error: arc end point", 0), 0u);
+  // 1.5 mm off a 1000 mm radius is 0.15 %: refused.
+  parse_errors("G0 X1000\nG3 X0 Y1001.5 I-1000 F60\n");
+  // The same 0.002 in that inch programs may be off is too much in a mm program.
+  parse_errors("G0 X25.4\nG3 X0 Y25.4508 I-25.4 F60\n");
+  // Beyond 100 × 0.028 mm even a huge radius does not help (LinuxCNC's hard limit).
+  parse_errors("G0 X100000\nG3 X0 Y100003 I-100000 F60\n");
+}
+
+TEST(IsoDiagnostics, RecoveryReportsEveryErrorInSourceOrder) {
+  const auto e = parse_errors(
+      "G21 G90\n"
+      "G0 X1 X2\n"       // repeated word
+      "G1 X5 F100\n"     // fine
+      "G1 Y1.2.3\n"      // malformed number
+      "X6\n"             // fine: modal G1
+      "M9\n"             // unsupported M code
+      "M30\n");
+  EXPECT_EQ(e, (std::vector<std::string>{"t.ngc:2:7: error: two X words in one block",
+                                         "t.ngc:4:4: error: malformed number: two decimal points",
+                                         "t.ngc:6:1: error: unsupported M code M9"}));
+}
+
+TEST(IsoDiagnostics, AFailedFeedWordIsNotReportedAgainAsMissingFeed) {
+  // The root cause is the bad F; the moves after it must not each complain about a missing feed.
+  EXPECT_EQ(parse_errors("G1 X1 F1.2.3\nX2\nX3\n"),
+            std::vector<std::string>{"t.ngc:1:7: error: malformed number: two decimal points"});
+  EXPECT_EQ(parse_errors("G5 X1\nX2\nX3\n"), std::vector<std::string>{"t.ngc:1:1: error: unsupported G code G5"});
+}
+
+TEST(IsoDiagnostics, NoProgramWhenAnyError) {
+  const auto r = iso::parse("G0 X1\nG1 X2 F60\nG0 Q1\n", "t.ngc");
+  EXPECT_FALSE(r.program);
+  ASSERT_EQ(r.diagnostics.size(), 1u);
+  EXPECT_EQ(r.diagnostics[0].line, 3u);
+  EXPECT_EQ(r.diagnostics[0].col, 4u);
+  EXPECT_EQ(r.diagnostics[0].file, "t.ngc");
+  EXPECT_EQ(r.diagnostics[0].severity, core::Severity::Error);
+}
+
+TEST(IsoDiagnostics, TooManyErrorsStopWithANote) {
+  std::string text;
+  for (int i = 0; i < 150; ++i) text += "Q1\n";
+  const auto r = iso::parse(text, "t.ngc");
+  EXPECT_FALSE(r.program);
+  ASSERT_EQ(r.diagnostics.size(), 101u);
+  EXPECT_EQ(r.diagnostics[99].line, 100u);
+  EXPECT_EQ(r.diagnostics.back().format(), "t.ngc:101:1: note: too many errors (100); stopping here");
+}
+
+TEST(IsoDiagnostics, NonFiniteStartIsRefused) {
+  iso::ParseOptions opt;
+  opt.start[0] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(parse_errors("G0 X1\n", opt), std::vector<std::string>{"t.ngc:0:0: error: start position is not finite"});
+}
