@@ -1,11 +1,16 @@
-// Line and arc/helix geometry.
+// Line and arc/helix geometry, and the dispatch to polynomial curves.
 #include "motion/geometry/segment.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <type_traits>
 
 namespace softmc::motion {
+
+// The planner's ring holds thousands of these; keep the value small enough to copy every cycle.
+static_assert(sizeof(Segment) <= 1536, "Segment grew past 1.5 KB");  // 1328 bytes today
+static_assert(std::is_trivially_copyable_v<Segment>, "queues copy Segments bytewise");
 
 Segment make_line(const Vec& start, const Vec& end) {
   Segment s;
@@ -56,6 +61,7 @@ Vec Segment::point(double s) const {
   if (s <= 0) return start;
   if (s >= length) return end;
   if (kind == SegmentKind::Line) return start + dir * s;
+  if (kind == SegmentKind::Poly) return poly.at(poly.param_at(s));
   const double th = theta0 + sweep * (s / length);
   Vec p = start + linear * s;
   p[axis0] = c0 + radius * std::cos(th);
@@ -66,6 +72,7 @@ Vec Segment::point(double s) const {
 // rt-safe
 Vec Segment::tangent(double s) const {
   if (kind == SegmentKind::Line) return dir;
+  if (kind == SegmentKind::Poly) return unit_tangent(poly.derivs(poly.param_at(s)));
   if (length <= 0) return Vec{};
   const double th = theta0 + sweep * (std::clamp(s, 0.0, length) / length);
   const double k = radius * sweep / length;  // d(angle·r)/ds, signed
@@ -79,6 +86,7 @@ Vec Segment::tangent(double s) const {
 Vec Segment::curvature(double s) const {
   Vec k{};
   if (kind == SegmentKind::Line || length <= 0) return k;
+  if (kind == SegmentKind::Poly) return curvature_vector(poly.derivs(poly.param_at(s)));
   const double th = theta0 + sweep * (std::clamp(s, 0.0, length) / length);
   const double w = sweep / length;  // d(angle)/ds
   k[axis0] = -radius * w * w * std::cos(th);
@@ -92,6 +100,7 @@ double Segment::distance_to(const Vec& p) const {
     const double t = std::clamp(core::dot(p - start, dir), 0.0, length);
     return core::distance(p, start + dir * t);
   }
+  if (kind == SegmentKind::Poly) return poly.distance_to(p);
   // Arc/helix: the parameter is found from the in-plane angle, unwrapped to the nearest turn of the
   // sweep, then refined with a few Newton steps on the squared distance (helix pitch couples them).
   constexpr double kTwoPi = 2 * std::numbers::pi;
@@ -116,6 +125,11 @@ double Segment::distance_to(const Vec& p) const {
 
 // rt-safe
 void Segment::bounds(Vec& lo, Vec& hi) const {
+  if (kind == SegmentKind::Poly) {  // computed once at construction (bernstein_range.hpp)
+    lo = poly.box_lo;
+    hi = poly.box_hi;
+    return;
+  }
   for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
     lo[i] = std::min(start[i], end[i]);
     hi[i] = std::max(start[i], end[i]);
@@ -138,6 +152,57 @@ void Segment::bounds(Vec& lo, Vec& hi) const {
     lo[axis1] = std::min(lo[axis1], y);
     hi[axis1] = std::max(hi[axis1], y);
   }
+}
+
+// rt-safe
+CurveFrame Segment::frame(double s) const {
+  if (kind != SegmentKind::Poly) return {point(s), tangent(s), curvature(s)};
+  CurveFrame f;
+  if (s <= 0) {
+    f.point = start;
+  } else if (s >= length) {
+    f.point = end;
+  }
+  const CurveDerivs d = poly.derivs(poly.param_at(s));
+  if (s > 0 && s < length) f.point = d.c;
+  f.tangent = unit_tangent(d);
+  f.curvature = curvature_vector(d);
+  return f;
+}
+
+namespace {
+// Largest |sin| (phase = π/2) or |cos| (phase = 0) over the angles [a0, a1].
+double max_abs_trig(double a0, double a1, double phase) {
+  const double pi = std::numbers::pi;
+  if (std::floor((a1 - phase) / pi) > std::floor((a0 - phase) / pi) || a1 - a0 >= pi) return 1;
+  return std::max(std::abs(std::cos(a0 - phase)), std::abs(std::cos(a1 - phase)));
+}
+}  // namespace
+
+// rt-safe
+Vec Segment::max_abs_tangent() const {
+  if (kind == SegmentKind::Poly) return poly.max_abs_tangent;
+  Vec m;
+  if (kind == SegmentKind::Line) {
+    for (std::size_t i = 0; i < core::kMaxAxes; ++i) m[i] = std::abs(dir[i]);
+    return m;
+  }
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i) m[i] = std::abs(linear[i]);
+  if (length <= 0) return m;
+  // The in-plane tangent is r·sweep/L·(-sin θ, cos θ).
+  const double k = radius * std::abs(sweep) / length;
+  const double a0 = std::min(theta0, theta0 + sweep), a1 = std::max(theta0, theta0 + sweep);
+  m[axis0] = k * max_abs_trig(a0, a1, std::numbers::pi / 2);
+  m[axis1] = k * max_abs_trig(a0, a1, 0);
+  return m;
+}
+
+// rt-safe
+double Segment::max_curvature() const {
+  if (kind == SegmentKind::Poly) return poly.max_curvature;
+  if (kind == SegmentKind::Line || length <= 0) return 0;
+  const double w = sweep / length;
+  return radius * w * w;
 }
 
 }  // namespace softmc::motion

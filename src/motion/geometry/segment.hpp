@@ -1,4 +1,5 @@
-// Geometric path segments parameterised by arc length s in [0, length]: lines and arcs/helices.
+// Geometric path segments parameterised by arc length s in [0, length]: lines, arcs/helices and
+// parametric polynomial curves (Bézier/NURBS pieces, splines, Newton polynomials; poly_curve.hpp).
 //
 //        axis1
 //          ^        end
@@ -8,18 +9,25 @@
 //          | c ----> axis0
 //
 // Axes outside the arc's plane move linearly with s (a helix when the normal axis moves).
-// Every query is rt-safe: no allocation, bounded work.
+// Every query is rt-safe: no allocation, bounded work. A Segment is a fixed-size value
+// (sizeof ≈ 1.3 KB, asserted in segment.cpp) copied into the planner's queues.
 #pragma once
 
 #include <cstdint>
 
 #include "core/axes.hpp"
+#include "motion/geometry/poly_curve.hpp"
 
 namespace softmc::motion {
 
 using core::Vec;
 
-enum class SegmentKind : std::uint8_t { Line, Arc };
+enum class SegmentKind : std::uint8_t { Line, Arc, Poly };
+
+// Everything the interpolator needs at one arc length, from one s → u inversion.
+struct CurveFrame {
+  Vec point, tangent, curvature;
+};
 
 struct Segment {
   SegmentKind kind = SegmentKind::Line;
@@ -36,6 +44,10 @@ struct Segment {
   double c0 = 0, c1 = 0, radius = 0, theta0 = 0, sweep = 0;
   Vec linear;  // per unit of s: d(pos)/ds for the axes outside the plane
 
+  // Poly: the curve C(u) with its arc-length table (constructors in bezier.hpp, cubic_spline.hpp,
+  // newton_polynomial.hpp, nurbs.hpp).
+  PolyCurve poly;
+
   // Path position at arc length s (clamped to [0, length]).
   Vec point(double s) const;
   // Unit tangent at s.
@@ -46,6 +58,14 @@ struct Segment {
   double distance_to(const Vec& p) const;
   // Axis-aligned bounding box of the whole curve (arcs: including their extreme points). rt-safe.
   void bounds(Vec& lo, Vec& hi) const;
+
+  // Point, unit tangent and curvature at s together (one s → u inversion for Poly). rt-safe.
+  CurveFrame frame(double s) const;
+  // Largest |tangent_i| over the segment per axis, and the largest curvature |κ| (1/mm): what the
+  // planner needs for per-axis speed and centripetal limits. Exact for lines and arcs, densely
+  // sampled for Poly. rt-safe.
+  Vec max_abs_tangent() const;
+  double max_curvature() const;
 };
 
 Segment make_line(const Vec& start, const Vec& end);

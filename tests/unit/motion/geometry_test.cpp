@@ -89,3 +89,25 @@ TEST(Geometry, DistanceToCurve) {
   EXPECT_NEAR(l.distance_to(xy(5, 2)), 2, 1e-12);
   EXPECT_NEAR(l.distance_to(xy(13, 4)), 5, 1e-12);
 }
+
+TEST(Geometry, MaxTangentAndCurvatureForThePlanner) {
+  const auto l = make_line(xy(0, 0), xy(3, -4));
+  EXPECT_NEAR(l.max_abs_tangent()[0], 0.6, 1e-12);
+  EXPECT_NEAR(l.max_abs_tangent()[1], 0.8, 1e-12);
+  EXPECT_EQ(l.max_curvature(), 0);
+  // Arc from 20° to 60° on R = 10: the tangent (-sin θ, cos θ) peaks at |sin 60°| and |cos 20°|.
+  const double d = std::numbers::pi / 180;
+  const auto a = make_arc(xy(10 * std::cos(20 * d), 10 * std::sin(20 * d)), xy(10 * std::cos(60 * d), 10 * std::sin(60 * d)),
+                          0, 1, 0, 0, 1);
+  EXPECT_NEAR(a.max_abs_tangent()[0], std::sin(60 * d), 1e-12);
+  EXPECT_NEAR(a.max_abs_tangent()[1], std::cos(20 * d), 1e-12);
+  EXPECT_NEAR(a.max_curvature(), 0.1, 1e-12);
+  // Passing through 90°, |sin| reaches 1.
+  const auto b = make_arc(xy(10 * std::cos(80 * d), 10 * std::sin(80 * d)), xy(-10, 0), 0, 1, 0, 0, 1);
+  EXPECT_NEAR(b.max_abs_tangent()[0], 1, 1e-12);
+  EXPECT_NEAR(b.max_abs_tangent()[1], 1, 1e-12);  // and |cos| at 180°
+  // A helix: the in-plane share shrinks by the pitch.
+  const auto h = make_arc(xy(10, 0, 0), xy(10, 0, 5), 0, 1, 0, 0, 1);
+  EXPECT_NEAR(h.max_abs_tangent()[0], 2 * std::numbers::pi * 10 / h.length, 1e-12);
+  EXPECT_NEAR(h.max_abs_tangent()[2], 5 / h.length, 1e-12);
+}

@@ -1,0 +1,75 @@
+// Cost of one geometric query per segment kind: point(s), and frame(s) (point, tangent, curvature).
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <vector>
+
+#include "motion/geometry/bezier.hpp"
+#include "motion/geometry/newton_polynomial.hpp"
+#include "motion/geometry/nurbs.hpp"
+#include "motion/geometry/segment.hpp"
+
+using namespace softmc;
+
+namespace {
+core::Vec xy(double x, double y, double z = 0) {
+  core::Vec v;
+  v[0] = x;
+  v[1] = y;
+  v[2] = z;
+  return v;
+}
+
+motion::Segment line() { return motion::make_line(xy(0, 0), xy(100, 40, 5)); }
+motion::Segment helix() { return motion::make_arc(xy(10, 0), xy(10, 0, 5), 0, 1, 0, 0, 1); }
+motion::Segment cubic() { return motion::make_cubic_bezier(xy(0, 0), xy(30, 80), xy(90, -60), xy(100, 20, 5)); }
+motion::Segment quarter_circle() {
+  const std::vector<core::Vec> c{xy(30, 30), xy(30, 40), xy(20, 40)};
+  const std::vector<double> w{1, std::sqrt(0.5), 1};
+  return motion::nurbs_g5_2(c, w, 3).segments.at(0);
+}
+motion::Segment quintic_nurbs_piece() {
+  const std::vector<core::Vec> c{xy(0, 0), xy(1, 3), xy(4, 4), xy(6, 1), xy(9, 2), xy(12, 0)};
+  const std::vector<double> w{1, 0.5, 2, 1, 3, 1};
+  return motion::nurbs_g5_2(c, w, 6).segments.at(0);
+}
+motion::Segment thesis_polynomial() {
+  const std::vector<motion::Node2> n{{10, 11}, {40, 22}, {60, 20}, {90, 5}};
+  return motion::newton_polynomial(n).segments.at(0);
+}
+
+// Walks the segment at a step that is not a multiple of anything in its tables.
+template <motion::Segment (*Make)()>
+void BM_Point(benchmark::State& state) {
+  const motion::Segment s = Make();
+  const double step = s.length / 997.3;
+  double at = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(s.point(at));
+    at += step;
+    if (at > s.length) at -= s.length;
+  }
+}
+
+template <motion::Segment (*Make)()>
+void BM_Frame(benchmark::State& state) {
+  const motion::Segment s = Make();
+  const double step = s.length / 997.3;
+  double at = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(s.frame(at));
+    at += step;
+    if (at > s.length) at -= s.length;
+  }
+}
+}  // namespace
+
+BENCHMARK(BM_Point<line>)->Name("GeometryPoint/Line");
+BENCHMARK(BM_Point<helix>)->Name("GeometryPoint/Helix");
+BENCHMARK(BM_Point<cubic>)->Name("GeometryPoint/CubicBezier");
+BENCHMARK(BM_Point<quarter_circle>)->Name("GeometryPoint/NurbsQuarterCircle");
+BENCHMARK(BM_Point<quintic_nurbs_piece>)->Name("GeometryPoint/QuinticNurbs");
+BENCHMARK(BM_Point<thesis_polynomial>)->Name("GeometryPoint/NewtonThesis");
+BENCHMARK(BM_Frame<helix>)->Name("GeometryFrame/Helix");
+BENCHMARK(BM_Frame<cubic>)->Name("GeometryFrame/CubicBezier");
+BENCHMARK(BM_Frame<thesis_polynomial>)->Name("GeometryFrame/NewtonThesis");

@@ -1,0 +1,136 @@
+// Bézier, rational Bézier, G5 and G5.1 constructors.
+#include "motion/geometry/bezier.hpp"
+
+#include <array>
+#include <cmath>
+
+namespace softmc::motion {
+
+const char* to_string(CurveError e) {
+  switch (e) {
+    case CurveError::Ok: return "ok";
+    case CurveError::TooFewPoints: return "too few points for the curve";
+    case CurveError::TooManyPoints: return "too many points for one segment";
+    case CurveError::RepeatedPoint: return "two consecutive points coincide";
+    case CurveError::NotMonotonic: return "nodes must be strictly monotonic in the independent axis";
+    case CurveError::BadDegree: return "curve degree out of range";
+    case CurveError::BadWeight: return "weights must be finite and positive";
+    case CurveError::BadKnots: return "bad knot vector";
+    case CurveError::BadValue: return "a coordinate is not finite";
+  }
+  return "?";
+}
+
+namespace {
+bool finite(const Vec& v) {
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i)
+    if (!std::isfinite(v[i])) return false;
+  return true;
+}
+}  // namespace
+
+namespace {
+// The segment and the estimated error of its length table.
+SegmentResult build(std::span<const Vec> ctrl, std::span<const double> weights, double& table_error) {
+  SegmentResult r;
+  if (ctrl.size() < 2) return {CurveError::TooFewPoints, {}};
+  if (ctrl.size() > kMaxBezierDegree + 1) return {CurveError::BadDegree, {}};
+  if (weights.size() != ctrl.size()) return {CurveError::BadWeight, {}};
+  for (std::size_t i = 0; i < ctrl.size(); ++i) {
+    if (!(std::isfinite(weights[i]) && weights[i] > 0)) return {CurveError::BadWeight, {}};
+    if (!finite(ctrl[i])) return {CurveError::BadValue, {}};
+  }
+  Segment& s = r.segment;
+  s.kind = SegmentKind::Poly;
+  s.poly.basis = PolyBasis::Bezier;
+  s.poly.degree = static_cast<std::uint8_t>(ctrl.size() - 1);
+  for (std::size_t i = 0; i < ctrl.size(); ++i) {
+    s.poly.bez.hctrl[i] = ctrl[i] * weights[i];
+    s.poly.bez.w[i] = weights[i];
+  }
+  table_error = s.poly.finalize();
+  s.start = ctrl.front();  // the end points are interpolated exactly
+  s.end = ctrl.back();
+  s.length = s.poly.length();
+  return r;
+}
+
+constexpr int kMaxSplitDepth = 10;
+}  // namespace
+
+SegmentResult make_rational_bezier(std::span<const Vec> ctrl, std::span<const double> weights) {
+  double err = 0;
+  return build(ctrl, weights, err);
+}
+
+CurveError append_rational_bezier(std::vector<Segment>& out, std::span<const Vec> ctrl, std::span<const double> weights,
+                                  int depth) {
+  double err = 0;
+  SegmentResult r = build(ctrl, weights, err);
+  if (!r.ok()) return r.error;
+  if (!(err > kTableTolerance * r.segment.length) || depth >= kMaxSplitDepth) {
+    out.push_back(r.segment);
+    return CurveError::Ok;
+  }
+  // de Casteljau at ½ in homogeneous coordinates: the left half takes the first point of every
+  // level, the right half the last; both halves share the middle point exactly.
+  const std::size_t n = ctrl.size() - 1;
+  std::array<Vec, kMaxBezierDegree + 1> hp, lp, rp;
+  std::array<double, kMaxBezierDegree + 1> w = {}, lw, rw;
+  for (std::size_t i = 0; i <= n; ++i) {
+    hp[i] = ctrl[i] * weights[i];
+    w[i] = weights[i];
+  }
+  for (std::size_t lvl = 0; lvl <= n; ++lvl) {
+    lp[lvl] = hp[0];
+    lw[lvl] = w[0];
+    rp[n - lvl] = hp[n - lvl];
+    rw[n - lvl] = w[n - lvl];
+    for (std::size_t i = 0; i + lvl < n; ++i) {
+      hp[i] = (hp[i] + hp[i + 1]) * 0.5;
+      w[i] = 0.5 * (w[i] + w[i + 1]);
+    }
+  }
+  for (std::size_t i = 0; i <= n; ++i) {
+    lp[i] = lp[i] * (1.0 / lw[i]);
+    rp[i] = rp[i] * (1.0 / rw[i]);
+  }
+  lp[0] = ctrl.front();
+  rp[n] = ctrl.back();
+  rp[0] = lp[n];
+  const CurveError e = append_rational_bezier(out, {lp.data(), n + 1}, {lw.data(), n + 1}, depth + 1);
+  if (e != CurveError::Ok) return e;
+  return append_rational_bezier(out, {rp.data(), n + 1}, {rw.data(), n + 1}, depth + 1);
+}
+
+SegmentResult make_bezier(std::span<const Vec> ctrl) {
+  const std::array<double, kMaxBezierDegree + 1> ones{1, 1, 1, 1, 1, 1};
+  return make_rational_bezier(ctrl, {ones.data(), std::min(ctrl.size(), ones.size())});
+}
+
+Segment make_cubic_bezier(const Vec& p0, const Vec& p1, const Vec& p2, const Vec& p3) {
+  const std::array<Vec, 4> c{p0, p1, p2, p3};
+  return make_bezier(c).segment;
+}
+
+Segment g5_cubic_spline(const Vec& start, const Vec& end, double i, double j, double p, double q,
+                        std::uint8_t axis0, std::uint8_t axis1) {
+  // Off-plane axes: at 1/3 and 2/3 of the way, which makes them linear in u.
+  Vec c1 = start + (end - start) * (1.0 / 3), c2 = start + (end - start) * (2.0 / 3);
+  c1[axis0] = start[axis0] + i;
+  c1[axis1] = start[axis1] + j;
+  c2[axis0] = end[axis0] + p;
+  c2[axis1] = end[axis1] + q;
+  return make_cubic_bezier(start, c1, c2, end);
+}
+
+Segment g5_1_quadratic(const Vec& start, const Vec& end, double i, double j, std::uint8_t axis0,
+                       std::uint8_t axis1) {
+  Vec c = (start + end) * 0.5;
+  c[axis0] = start[axis0] + i;
+  c[axis1] = start[axis1] + j;
+  const std::array<Vec, 3> ctrl{start, c, end};
+  return make_bezier(ctrl).segment;
+}
+
+}  // namespace softmc::motion

@@ -1,0 +1,341 @@
+// Evaluation, arc length and its inversion for polynomial and rational curves.
+#include "motion/geometry/poly_curve.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "motion/geometry/bernstein_range.hpp"
+
+namespace softmc::motion {
+
+namespace {
+
+// 16-point Gauss–Legendre on [-1, 1]: the positive nodes and their weights (the rule is symmetric).
+// Exact for polynomials of degree 31; on 1/32 of a smooth curve it meets 1e-9 relative with room.
+constexpr std::array<double, 8> kGlX{0.09501250983763744, 0.2816035507792589, 0.45801677765722737,
+                                     0.6178762444026438,  0.755404408355003,  0.8656312023878318,
+                                     0.9445750230732326,  0.9894009349916499};
+constexpr std::array<double, 8> kGlW{0.18945061045506847, 0.1826034150449236, 0.16915651939500256,
+                                     0.14959598881657682, 0.12462897125553395, 0.0951585116824929,
+                                     0.062253523938647776, 0.027152459411754058};
+// 4-point rule for the tiny corrections of the Newton iteration.
+constexpr std::array<double, 2> kGl4X{0.3399810435848563, 0.8611363115940526};
+constexpr std::array<double, 2> kGl4W{0.6521451548625461, 0.34785484513745374};
+
+constexpr double kH = 1.0 / kArcTableIntervals;
+
+// de Casteljau on homogeneous points down to the last three levels gives C, C', C'' together.
+//   level n-2: Q0 Q1 Q2   →  H'' = n(n-1)(Q2 - 2Q1 + Q0)
+//   level n-1: R0 R1      →  H'  = n(R1 - R0),  H = (1-u)R0 + uR1
+// then the quotient rule for C = H / W.
+CurveDerivs bezier_derivs(const PolyCurve::BezierData& b, std::size_t n, double u) {
+  std::array<Vec, kMaxBezierDegree + 1> p = b.hctrl;
+  std::array<double, kMaxBezierDegree + 1> w = b.w;
+  const double v = 1 - u;
+  Vec h, h1, h2;
+  double wh = 0, w1 = 0, w2 = 0;
+  if (n == 0) {
+    h = p[0];
+    wh = w[0];
+  } else {
+    for (std::size_t lvl = n; lvl > 2; --lvl) {  // reduce n+1 points to 3
+      for (std::size_t i = 0; i + 1 < lvl + 1; ++i) {
+        p[i] = p[i] * v + p[i + 1] * u;
+        w[i] = w[i] * v + w[i + 1] * u;
+      }
+    }
+    if (n >= 2) {
+      const double nn = static_cast<double>(n * (n - 1));
+      h2 = (p[2] - p[1] * 2.0 + p[0]) * nn;
+      w2 = (w[2] - 2 * w[1] + w[0]) * nn;
+      for (std::size_t i = 0; i < 2; ++i) {
+        p[i] = p[i] * v + p[i + 1] * u;
+        w[i] = w[i] * v + w[i + 1] * u;
+      }
+    }
+    h1 = (p[1] - p[0]) * static_cast<double>(n);
+    w1 = (w[1] - w[0]) * static_cast<double>(n);
+    h = p[0] * v + p[1] * u;
+    wh = w[0] * v + w[1] * u;
+  }
+  CurveDerivs d;
+  const double iw = 1.0 / wh;
+  d.c = h * iw;
+  d.d1 = (h1 - d.c * w1) * iw;
+  d.d2 = (h2 - d.d1 * (2 * w1) - d.c * w2) * iw;
+  return d;
+}
+
+// p(x), p'(x), p''(x) of the Newton form by a Horner-like recurrence from the innermost term.
+void newton_eval(const PolyCurve::NewtonData& nd, std::size_t n, double x, double& p, double& dp, double& ddp) {
+  p = nd.coef[n];
+  dp = 0;
+  ddp = 0;
+  for (std::size_t k = n; k-- > 0;) {
+    const double t = x - nd.node_x[k];
+    ddp = ddp * t + 2 * dp;
+    dp = dp * t + p;
+    p = p * t + nd.coef[k];
+  }
+}
+
+}  // namespace
+
+// rt-safe
+CurveDerivs PolyCurve::derivs(double u) const {
+  if (basis == PolyBasis::Bezier) return bezier_derivs(bez, degree, u);
+  const double dx = newton.x_end - newton.x_begin;
+  const double x = (1 - u) * newton.x_begin + u * newton.x_end;
+  double p, dp, ddp;
+  newton_eval(newton, degree, x, p, dp, ddp);
+  CurveDerivs d;
+  d.c = newton.base;
+  d.c[newton.x_axis] = x;
+  d.c[newton.y_axis] = p;
+  d.d1[newton.x_axis] = dx;
+  d.d1[newton.y_axis] = dp * dx;
+  d.d2[newton.y_axis] = ddp * dx * dx;
+  return d;
+}
+
+// rt-safe
+Vec PolyCurve::at(double u) const { return derivs(u).c; }
+
+// rt-safe
+double PolyCurve::speed(double u) const {
+  if (basis == PolyBasis::NewtonGraph) {
+    const double dx = newton.x_end - newton.x_begin;
+    double p, dp, ddp;
+    newton_eval(newton, degree, (1 - u) * newton.x_begin + u * newton.x_end, p, dp, ddp);
+    return std::abs(dx) * std::sqrt(1 + dp * dp);
+  }
+  return core::norm(derivs(u).d1);
+}
+
+namespace {
+
+// |C'(u)| for the integrals, the inner loop of s → u. For Bézier curves it converts the control
+// points once into monomial coefficients of the axes that actually move (usually two or three of
+// nine) and then costs a Horner pass per axis. rt-safe: fixed arrays on the stack.
+class SpeedEval {
+ public:
+  explicit SpeedEval(const PolyCurve& c) : c_(c) {
+    if (c.basis != PolyBasis::Bezier) return;
+    const auto& b = c.bez;
+    n_ = c.degree;
+    rational_ = false;
+    for (std::size_t i = 1; i <= n_; ++i) rational_ = rational_ || b.w[i] != b.w[0];
+    const double scale = rational_ ? 1.0 : 1.0 / b.w[0];
+    for (std::size_t a = 0; a < core::kMaxAxes; ++a) {
+      bool moves = false;
+      for (std::size_t i = 1; i <= n_; ++i) moves = moves || b.hctrl[i][a] * b.w[0] != b.hctrl[0][a] * b.w[i];
+      if (!moves) continue;  // a constant coordinate has no derivative
+      std::array<double, kMaxBezierDegree + 1> v{};
+      for (std::size_t i = 0; i <= n_; ++i) v[i] = b.hctrl[i][a] * scale;
+      to_monomial(v, h_[dims_++]);
+    }
+    if (rational_) to_monomial(b.w, w_);
+  }
+
+  double operator()(double u) const {
+    if (c_.basis != PolyBasis::Bezier) return c_.speed(u);
+    double w = 1, dw = 0;
+    if (rational_) horner(w_, u, w, dw);
+    double sum = 0;
+    for (std::size_t d = 0; d < dims_; ++d) {
+      double h, dh;
+      horner(h_[d], u, h, dh);
+      const double num = rational_ ? dh * w - h * dw : dh;  // (H'W - HW') / W²
+      sum += num * num;
+    }
+    return rational_ ? std::sqrt(sum) / (w * w) : std::sqrt(sum);
+  }
+
+ private:
+  // Bernstein → monomial by forward differences: a_j = C(n, j)·Δʲb_0.
+  void to_monomial(std::array<double, kMaxBezierDegree + 1> b, std::array<double, kMaxBezierDegree + 1>& a) const {
+    double binom = 1;
+    for (std::size_t j = 0; j <= n_; ++j) {
+      a[j] = binom * b[0];
+      for (std::size_t i = 0; i + j < n_; ++i) b[i] = b[i + 1] - b[i];
+      binom = binom * static_cast<double>(n_ - j) / static_cast<double>(j + 1);
+    }
+  }
+  void horner(const std::array<double, kMaxBezierDegree + 1>& a, double u, double& p, double& dp) const {
+    p = a[n_];
+    dp = 0;
+    for (std::size_t j = n_; j-- > 0;) {
+      dp = dp * u + p;
+      p = p * u + a[j];
+    }
+  }
+
+  const PolyCurve& c_;
+  std::size_t n_ = 0, dims_ = 0;
+  bool rational_ = false;
+  std::array<std::array<double, kMaxBezierDegree + 1>, core::kMaxAxes> h_;
+  std::array<double, kMaxBezierDegree + 1> w_{};
+};
+
+// rt-safe: ∫_a^b f by the 16-point rule.
+template <class F>
+double gl16(const F& f, double a, double b) {
+  const double m = 0.5 * (a + b), r = 0.5 * (b - a);
+  double sum = 0;
+  for (std::size_t i = 0; i < kGlX.size(); ++i) sum += kGlW[i] * (f(m - r * kGlX[i]) + f(m + r * kGlX[i]));
+  return sum * r;
+}
+
+// rt-safe: the 4-point rule, for the small Newton corrections.
+template <class F>
+double gl4(const F& f, double a, double b) {
+  const double m = 0.5 * (a + b), r = 0.5 * (b - a);
+  double sum = 0;
+  for (std::size_t i = 0; i < kGl4X.size(); ++i) sum += kGl4W[i] * (f(m - r * kGl4X[i]) + f(m + r * kGl4X[i]));
+  return sum * r;
+}
+
+}  // namespace
+
+// rt-safe
+double PolyCurve::arc(double a, double b) const { return gl16(SpeedEval(*this), a, b); }
+
+// rt-safe: bounded work (a 5-step table search, at most 8 Newton/bisection steps).
+//
+//   table:  s_at[k] ≤ s < s_at[k+1]  →  u in [k/32, (k+1)/32]
+//   guess:  cubic Hermite of u(s) from du/ds = 1/|C'| at both ends (O(h⁴) for smooth curves)
+//   Newton: u ← u - (s(u) - s)/|C'(u)|, s(u) kept up to date by integrating each step's small
+//           interval; a step leaving the bracket falls back to bisection.
+double PolyCurve::param_at(double s) const {
+  const double len = length();
+  if (!(s > 0) || len <= 0) return 0;
+  if (s >= len) return 1;
+  const auto it = std::upper_bound(s_at.begin(), s_at.end(), s);
+  const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(it - s_at.begin()) - 1, kArcTableIntervals - 1);
+  const SpeedEval speed_at(*this);
+  double lo = k * kH, hi = (k + 1) * kH;
+  const double sa = s_at[k], sb = s_at[k + 1], ds = sb - sa;
+  if (!(ds > 0)) return lo;
+  const double t = (s - sa) / ds;
+  double u = lo + t * kH;
+  const double v0 = speed_at(lo), v1 = speed_at(hi);
+  if (v0 > 1e-9 * ds / kH && v1 > 1e-9 * ds / kH) {
+    const double t2 = t * t, t3 = t2 * t;
+    const double hermite = (2 * t3 - 3 * t2 + 1) * lo + (t3 - 2 * t2 + t) * ds / v0 + (-2 * t3 + 3 * t2) * hi +
+                           (t3 - t2) * ds / v1;
+    if (hermite > lo && hermite < hi) u = hermite;
+  }
+  double acc = sa + gl16(speed_at, lo, u);  // s(u)
+  const double tol = 1e-12 * std::max(1.0, len);
+  for (int iter = 0; iter < 8; ++iter) {
+    const double f = acc - s;
+    if (std::abs(f) <= tol) break;
+    if (f < 0)
+      lo = u;
+    else
+      hi = u;
+    const double sp = speed_at(u);
+    double un = sp > 0 ? u - f / sp : 0.5 * (lo + hi);
+    if (!(un > lo && un < hi)) un = 0.5 * (lo + hi);  // safeguard: stay inside the bracket
+    acc += std::abs(un - u) < 0.02 * kH ? gl4(speed_at, u, un) : gl16(speed_at, u, un);
+    u = un;
+  }
+  return u;
+}
+
+// rt-safe
+Vec unit_tangent(const CurveDerivs& d) {
+  const double sp = core::norm(d.d1);
+  if (sp > 1e-300) return d.d1 * (1.0 / sp);
+  // A stationary point (e.g. G5 with I = J = 0): the tangent is the limit direction of C''.
+  const double a = core::norm(d.d2);
+  return a > 0 ? d.d2 * (1.0 / a) : Vec{};
+}
+
+// rt-safe: d²C/ds² = (C'' - (C''·T) T) / |C'|².
+Vec curvature_vector(const CurveDerivs& d) {
+  const double sp2 = core::dot(d.d1, d.d1);
+  if (!(sp2 > 1e-300)) return Vec{};
+  const Vec t = d.d1 * (1.0 / std::sqrt(sp2));
+  return (d.d2 - t * core::dot(d.d2, t)) * (1.0 / sp2);
+}
+
+double PolyCurve::finalize() {
+  s_at[0] = 0;
+  double err = 0;
+  const SpeedEval speed_at(*this);
+  for (std::size_t k = 0; k < kArcTableIntervals; ++k) {
+    const double a = k * kH, b = (k + 1) * kH, m = 0.5 * (a + b);
+    const double whole = gl16(speed_at, a, b);
+    err += std::abs(whole - (gl16(speed_at, a, m) + gl16(speed_at, m, b)));
+    s_at[k + 1] = s_at[k] + whole;
+  }
+
+  // Bounds: per axis, a Bernstein branch-and-bound range (guaranteed to contain the curve).
+  if (basis == PolyBasis::Bezier) {
+    std::array<double, kMaxBezierDegree + 1> num{};
+    for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
+      for (std::size_t j = 0; j <= degree; ++j) num[j] = bez.hctrl[j][i];
+      const auto r = bernstein_range({num.data(), degree + 1u}, {bez.w.data(), degree + 1u});
+      box_lo[i] = r.lo;
+      box_hi[i] = r.hi;
+    }
+  } else {
+    box_lo = newton.base;
+    box_hi = newton.base;
+    box_lo[newton.x_axis] = std::min(newton.x_begin, newton.x_end);
+    box_hi[newton.x_axis] = std::max(newton.x_begin, newton.x_end);
+    const auto bc = newton_to_bernstein(*this);
+    std::array<double, kMaxNewtonDegree + 1> ones;
+    ones.fill(1.0);
+    const auto r = bernstein_range({bc.data(), degree + 1u}, {ones.data(), degree + 1u});
+    box_lo[newton.y_axis] = r.lo;
+    box_hi[newton.y_axis] = r.hi;
+  }
+
+  // Sampled maxima of |T_i| and |κ| for the planner.
+  max_abs_tangent = Vec{};
+  max_curvature = 0;
+  constexpr int kSamples = 1024;
+  for (int i = 0; i <= kSamples; ++i) {
+    const CurveDerivs d = derivs(static_cast<double>(i) / kSamples);
+    const Vec t = unit_tangent(d);
+    for (std::size_t a = 0; a < core::kMaxAxes; ++a) max_abs_tangent[a] = std::max(max_abs_tangent[a], std::abs(t[a]));
+    max_curvature = std::max(max_curvature, core::norm(curvature_vector(d)));
+  }
+  return err;
+}
+
+double PolyCurve::distance_to(const Vec& p) const {
+  // Sample densely, then refine every local minimum of the sampled distance with Newton steps on
+  // f(u) = (C - p)·C' (f' = |C'|² + (C - p)·C''), so a nearer lobe elsewhere is not missed.
+  constexpr int kSamples = 256;
+  std::array<double, kSamples + 1> d2{};
+  for (int i = 0; i <= kSamples; ++i) {
+    const Vec e = at(static_cast<double>(i) / kSamples) - p;
+    d2[i] = core::dot(e, e);
+  }
+  double best = std::sqrt(std::min(d2.front(), d2.back()));
+  for (int i = 0; i <= kSamples; ++i) {
+    const bool left = i == 0 || d2[i] <= d2[i - 1];
+    const bool right = i == kSamples || d2[i] <= d2[i + 1];
+    if (!(left && right)) continue;
+    double u = static_cast<double>(i) / kSamples;
+    for (int it = 0; it < 30; ++it) {
+      const CurveDerivs d = derivs(u);
+      const Vec e = d.c - p;
+      const double f = core::dot(e, d.d1);
+      const double df = core::dot(d.d1, d.d1) + core::dot(e, d.d2);
+      if (!(df > 0)) break;
+      const double un = std::clamp(u - f / df, 0.0, 1.0);
+      const bool done = std::abs(un - u) < 1e-15;
+      u = un;
+      if (done) break;
+    }
+    best = std::min(best, core::distance(at(u), p));
+  }
+  return best;
+}
+
+}  // namespace softmc::motion

@@ -1,0 +1,94 @@
+// Parametric polynomial curves C(u), u in [0, 1], and their arc-length parameterisation s → u.
+//
+//   C(u) ──► |C'(u)| ──► s(u) = ∫0^u |C'| du      table: s at u = k/32 (16-point Gauss–Legendre each)
+//                         s ──► u                  table lookup, then safeguarded Newton on s(u) - s
+//
+// Two bases share that machinery:
+//   Bezier       rational Bézier of degree ≤ kMaxBezierDegree in all axes (weights 1 = polynomial):
+//                cubic pieces of splines and G5, quadratic G5.1, the pieces of a NURBS.
+//   NewtonGraph  the graph y = p(x) of a Newton interpolating polynomial (divided differences) of
+//                degree ≤ kMaxNewtonDegree: x moves linearly with u, other axes stay put.
+// The curve is evaluated exactly at every query (no polygon); only s → u is iterative, converged to
+// 1e-12 mm of arc length. A value type of fixed size: copying it never allocates.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "core/axes.hpp"
+
+namespace softmc::motion {
+
+using core::Vec;
+
+inline constexpr std::size_t kMaxBezierDegree = 5;   // G5.2 order L ≤ 6
+inline constexpr std::size_t kMaxNewtonDegree = 15;  // 16 nodes; the thesis found > 5 unstable anyway
+inline constexpr std::size_t kArcTableIntervals = 32;
+inline constexpr double kTableTolerance = 1e-10;  // relative length error a piece may have
+
+enum class PolyBasis : std::uint8_t { Bezier, NewtonGraph };
+
+// Position and its first two derivatives with respect to u.
+struct CurveDerivs {
+  Vec c, d1, d2;
+};
+
+struct PolyCurve {
+  PolyBasis basis = PolyBasis::Bezier;
+  std::uint8_t degree = 0;
+
+  struct BezierData {
+    std::array<Vec, kMaxBezierDegree + 1> hctrl{};   // weighted control points w_i·P_i
+    std::array<double, kMaxBezierDegree + 1> w{};    // weights (all > 0)
+  };
+  struct NewtonData {
+    std::array<double, kMaxNewtonDegree + 1> node_x{};  // x_0..x_n
+    std::array<double, kMaxNewtonDegree + 1> coef{};    // divided differences f[x_0..x_k]
+    double x_begin = 0, x_end = 0;                      // x(u) = (1-u)·x_begin + u·x_end
+    Vec base;                                            // the axes outside (x, y)
+    std::uint8_t x_axis = 0, y_axis = 1;
+  };
+  union {
+    BezierData bez{};
+    NewtonData newton;
+  };
+
+  // s at u = k / kArcTableIntervals; s_at.back() is the curve's length.
+  std::array<double, kArcTableIntervals + 1> s_at{};
+  // Axis-aligned box guaranteed to contain the curve (within 1e-9 mm), computed at construction.
+  Vec box_lo, box_hi;
+  // Largest |dC_i/ds| per axis and largest curvature, sampled densely at construction (for the
+  // planner's speed limits; a sampled maximum, not a proof).
+  Vec max_abs_tangent;
+  double max_curvature = 0;
+
+  PolyCurve() {}
+
+  double length() const { return s_at.back(); }
+
+  // rt-safe: C, C', C'' at u in [0, 1].
+  CurveDerivs derivs(double u) const;
+  // rt-safe: C(u).
+  Vec at(double u) const;
+  // rt-safe: |C'(u)|.
+  double speed(double u) const;
+  // rt-safe: ∫_a^b |C'| du (16-point Gauss–Legendre; b may be below a).
+  double arc(double a, double b) const;
+  // rt-safe: the parameter u at arc length s (clamped to [0, length]).
+  double param_at(double s) const;
+
+  // Fills s_at, the box and the sampled maxima. Called once by every constructor (allocates).
+  // Returns the estimated error of the length table (mm): the sum over its intervals of
+  // |one 16-point rule - two 16-point rules on the halves|. Constructors split a curve whose
+  // estimate exceeds kTableTolerance·length into pieces.
+  double finalize();
+  // Distance from p to the curve: dense sampling, then Newton on (C - p)·C' = 0. Not rt-critical.
+  double distance_to(const Vec& p) const;
+};
+
+// Unit tangent and curvature vector d²C/ds² from the u-derivatives (rt-safe).
+Vec unit_tangent(const CurveDerivs& d);
+Vec curvature_vector(const CurveDerivs& d);
+
+}  // namespace softmc::motion

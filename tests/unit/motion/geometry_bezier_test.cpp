@@ -1,0 +1,198 @@
+// Bézier segments, G5 and G5.1: exact end points, arc-length parameterisation, tangents, curvature.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <numbers>
+#include <vector>
+
+#include "motion/geometry/bezier.hpp"
+
+using namespace softmc;
+using namespace softmc::motion;
+
+namespace {
+core::Vec xy(double x, double y, double z = 0) {
+  core::Vec v;
+  v[0] = x;
+  v[1] = y;
+  v[2] = z;
+  return v;
+}
+
+// Composite Simpson with 2^18 panels: an independent reference for a length integral.
+double simpson(const std::function<double(double)>& f, double a, double b) {
+  constexpr int n = 1 << 18;
+  const double h = (b - a) / n;
+  double sum = f(a) + f(b);
+  for (int i = 1; i < n; ++i) sum += f(a + i * h) * (i % 2 ? 4 : 2);
+  return sum * h / 3;
+}
+
+// Speed of a 2-D cubic Bézier written out from the Bernstein derivative, not from the library.
+double cubic_speed(const core::Vec (&p)[4], double u) {
+  const double v = 1 - u;
+  double sx = 0, sy = 0;
+  for (int a = 0; a < 2; ++a) {
+    const double d = 3 * (v * v * (p[1][a] - p[0][a]) + 2 * u * v * (p[2][a] - p[1][a]) + u * u * (p[3][a] - p[2][a]));
+    (a == 0 ? sx : sy) = d;
+  }
+  return std::hypot(sx, sy);
+}
+}  // namespace
+
+TEST(GeometryBezier, T2_CubicLengthMatchesNumericIntegration) {
+  const core::Vec p[4] = {xy(0, 0), xy(30, 80), xy(90, -60), xy(100, 20)};
+  const auto s = make_cubic_bezier(p[0], p[1], p[2], p[3]);
+  ASSERT_EQ(s.kind, SegmentKind::Poly);
+  const double ref = simpson([&](double u) { return cubic_speed(p, u); }, 0, 1);
+  EXPECT_NEAR(s.length / ref - 1, 0, 1e-9) << s.length << " vs " << ref;
+  EXPECT_EQ(s.point(0), p[0]);
+  EXPECT_EQ(s.point(s.length), p[3]);
+}
+
+TEST(GeometryBezier, T2_EqualArcLengthStepsGiveEqualChords) {
+  // Steps of 1 µm along the whole curve: each chord equals the step (the chord/arc difference
+  // κ²h³/24 is below 1e-12 here), which holds only if point(s) is truly parameterised by length.
+  const auto s = make_cubic_bezier(xy(0, 0), xy(30, 80), xy(90, -60), xy(100, 20, 5));
+  const double h = 1e-3;
+  core::Vec prev = s.point(0);
+  double worst = 0;
+  for (double at = h; at <= s.length; at += h) {
+    const core::Vec p = s.point(at);
+    worst = std::max(worst, std::abs(core::distance(p, prev) - h));
+    prev = p;
+  }
+  EXPECT_LT(worst, 1e-9);
+}
+
+TEST(GeometryBezier, T2_TangentIsUnitAndMatchesFiniteDifferences) {
+  const auto s = make_cubic_bezier(xy(0, 0), xy(30, 80), xy(90, -60), xy(100, 20, 5));
+  for (int i = 1; i < 200; ++i) {
+    const double at = s.length * i / 200.0, e = 1e-5;
+    const auto t = s.tangent(at);
+    EXPECT_NEAR(core::norm(t), 1, 1e-12);
+    const auto fd = (s.point(at + e) - s.point(at - e)) * (1 / (2 * e));
+    EXPECT_LT(core::distance(fd, t), 1e-6);
+    const auto kfd = (s.tangent(at + e) - s.tangent(at - e)) * (1 / (2 * e));
+    EXPECT_LT(core::distance(kfd, s.curvature(at)), 1e-5 * std::max(1.0, core::norm(kfd)));
+    const auto f = s.frame(at);
+    EXPECT_LT(core::distance(f.point, s.point(at)), 1e-12);
+    EXPECT_LT(core::distance(f.tangent, t), 1e-12);
+  }
+}
+
+TEST(GeometryBezier, G5_CurvyNEndsAndTangents) {
+  // LinuxCNC's example: G0 X0 Y0 / G5 I0 J3 P0 Q-3 X1 Y1, then G5 P0 Q-3 X2 Y2 (I J = -previous P Q).
+  const auto a = g5_cubic_spline(xy(0, 0), xy(1, 1), 0, 3, 0, -3);
+  const auto b = g5_cubic_spline(xy(1, 1), xy(2, 2), 0, 3, 0, -3);
+  EXPECT_EQ(a.point(0), xy(0, 0));
+  EXPECT_EQ(a.point(a.length), xy(1, 1));
+  EXPECT_NEAR(a.tangent(0)[1], 1, 1e-12);          // leaves along +Y (towards start + (I, J))
+  EXPECT_NEAR(a.tangent(a.length)[1], 1, 1e-12);   // arrives along +Y (from end + (P, Q))
+  EXPECT_LT(core::distance(a.tangent(a.length), b.tangent(0)), 1e-12);  // joins smoothly
+  // The "N": y(u) = 9u(1-u)² - 6u²(1-u) + u³ rises to 1 at u = ¼, falls to 0 at u = ¾.
+  EXPECT_NEAR(a.poly.at(0.25)[1], 1, 1e-12);
+  EXPECT_NEAR(a.poly.at(0.75)[1], 0, 1e-12);
+  EXPECT_GT(a.poly.at(0.25)[1], a.poly.at(0.5)[1] + 0.4);
+  core::Vec lo, hi;
+  a.bounds(lo, hi);
+  EXPECT_NEAR(lo[1], 0, 1e-9);
+  EXPECT_NEAR(hi[1], 1, 1e-9);
+  EXPECT_EQ(lo[2], 0);
+  EXPECT_EQ(hi[2], 0);
+}
+
+TEST(GeometryBezier, G5_BoundsContainTheCurveTightly) {
+  const auto a = g5_cubic_spline(xy(0, 0), xy(1, 1), 0, 3, 0, -3);
+  core::Vec lo, hi;
+  a.bounds(lo, hi);
+  double ymin = 1e9, ymax = -1e9;
+  for (int i = 0; i <= 100000; ++i) {
+    const auto p = a.poly.at(i / 100000.0);
+    ymin = std::min(ymin, p[1]);
+    ymax = std::max(ymax, p[1]);
+    ASSERT_GE(p[0], lo[0]);
+    ASSERT_LE(p[0], hi[0]);
+  }
+  EXPECT_LE(lo[1], ymin);
+  EXPECT_GE(hi[1], ymax);
+  EXPECT_LT(ymin - lo[1], 1e-8);
+  EXPECT_LT(hi[1] - ymax, 1e-8);
+  EXPECT_NEAR(hi[1] + lo[1], 1.0, 1e-9);  // the N is point-symmetric about (0.5, 0.5)
+}
+
+TEST(GeometryBezier, G5_1_ParabolaLiesOnYEqualsXSquared) {
+  // LinuxCNC's example: G0 X-2 Y4 / G5.1 X2 I2 J-8 is the parabola y = x² through the origin.
+  const auto s = g5_1_quadratic(xy(-2, 4), xy(2, 4), 2, -8);
+  ASSERT_EQ(s.poly.degree, 2);
+  const double exact_len = 2 * std::sqrt(17.0) + std::asinh(4.0) / 2;  // ∫ √(1 + 4x²) dx over [-2, 2]
+  EXPECT_NEAR(s.length / exact_len - 1, 0, 1e-12);
+  for (int i = 0; i <= 400; ++i) {
+    const double at = s.length * i / 400.0;
+    const auto p = s.point(at);
+    EXPECT_NEAR(p[1], p[0] * p[0], 1e-12);
+    // Curvature of y = x²: 2 / (1 + 4x²)^1.5, pointing to the concave side (+Y component).
+    const auto k = s.curvature(at);
+    EXPECT_NEAR(core::norm(k), 2 / std::pow(1 + 4 * p[0] * p[0], 1.5), 1e-9);
+    EXPECT_GT(k[1], 0);
+    EXPECT_NEAR(core::dot(k, s.tangent(at)), 0, 1e-9);
+  }
+  // Arc length from x = -2 to x: the closed form F(x) - F(-2) with F = x√(1+4x²)/2 + asinh(2x)/4.
+  auto F = [](double x) { return x * std::sqrt(1 + 4 * x * x) / 2 + std::asinh(2 * x) / 4; };
+  for (double x : {-1.5, -0.3, 0.0, 0.7, 1.9}) {
+    const auto p = s.point(F(x) - F(-2));
+    EXPECT_NEAR(p[0], x, 1e-9);
+  }
+  EXPECT_NEAR(s.distance_to(xy(0, 0)), 0, 1e-12);
+  EXPECT_NEAR(s.distance_to(xy(0, -1)), 1, 1e-9);
+  EXPECT_NEAR(s.max_curvature(), 2, 1e-9);  // at the vertex
+}
+
+TEST(GeometryBezier, RationalBezierRejectsBadWeightsAndDegrees) {
+  const core::Vec c[3] = {xy(0, 0), xy(1, 1), xy(2, 0)};
+  const double bad[3] = {1, 0, 1};
+  EXPECT_EQ(make_rational_bezier(c, bad).error, CurveError::BadWeight);
+  const core::Vec seven[7] = {};
+  EXPECT_EQ(make_bezier(seven).error, CurveError::BadDegree);
+  EXPECT_EQ(make_bezier(std::span<const core::Vec>(c, 1)).error, CurveError::TooFewPoints);
+}
+
+TEST(GeometryBezier, DegenerateStartTangentFollowsTheCurve) {
+  // G5 with I = J = 0: C'(0) = 0; the tangent there is the limit direction, towards P2.
+  const auto s = g5_cubic_spline(xy(0, 0), xy(10, 0), 0, 0, 0, 5);
+  const auto t = s.tangent(0);
+  EXPECT_NEAR(core::norm(t), 1, 1e-12);
+  EXPECT_NEAR(t[0], 10 / std::hypot(10.0, 5.0), 1e-12);
+  const double h = 1e-3;
+  EXPECT_NEAR(core::distance(s.point(h), s.point(0)), h, 1e-9);
+}
+
+TEST(GeometryBezier, T2_CuspIsHalvedAndStillMeasuredExactly) {
+  // (0,0) (10,10) (0,10) (10,0) has C'(½) = 0, a true cusp where |C'| has a kink. Its part over
+  // u in [0, 0.7] puts the cusp at u = 5/7, between two length-table breakpoints: one table would
+  // miss 1e-9 there, so the curve comes back as halves.
+  const core::Vec q[4] = {xy(0, 0), xy(10, 10), xy(0, 10), xy(10, 0)};
+  auto lerp = [](const core::Vec& a, const core::Vec& b, double t) { return a * (1 - t) + b * t; };
+  const double t = 0.7;
+  const core::Vec a1 = lerp(q[0], q[1], t), b1 = lerp(q[1], q[2], t), c1 = lerp(q[2], q[3], t);
+  const core::Vec a2 = lerp(a1, b1, t), b2 = lerp(b1, c1, t), a3 = lerp(a2, b2, t);
+  const core::Vec p[4] = {q[0], a1, a2, a3};
+  std::vector<Segment> out;
+  const double ones[4] = {1, 1, 1, 1};
+  ASSERT_EQ(append_rational_bezier(out, p, ones), CurveError::Ok);
+  EXPECT_GE(out.size(), 2u);
+  double total = 0;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    total += out[i].length;
+    if (i > 0) {
+      EXPECT_EQ(out[i - 1].end, out[i].start);
+    }
+  }
+  const double ref = simpson([&](double u) { return cubic_speed(p, u); }, 0, 5.0 / 7) +
+                     simpson([&](double u) { return cubic_speed(p, u); }, 5.0 / 7, 1);
+  EXPECT_NEAR(total / ref - 1, 0, 1e-9) << total << " vs " << ref;
+  // A single segment (make_cubic_bezier never splits) is less accurate across the kink: this is why.
+  const auto one = make_cubic_bezier(p[0], p[1], p[2], p[3]);
+  EXPECT_GT(std::abs(one.length / ref - 1), 1e-9);
+}

@@ -1,0 +1,88 @@
+// Arcs and helices in the ZX (G18) and YZ (G19) planes: the same Segment code, other axis pairs.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "motion/geometry/segment.hpp"
+
+using namespace softmc;
+using motion::make_arc;
+
+namespace {
+core::Vec xyz(double x, double y, double z) {
+  core::Vec v;
+  v[0] = x;
+  v[1] = y;
+  v[2] = z;
+  return v;
+}
+constexpr std::uint8_t kX = 0, kY = 1, kZ = 2;
+}  // namespace
+
+// G18: plane (Z, X), counter-clockwise seen from +Y goes from Z towards X.
+TEST(GeometryPlanes, G18_ArcInZxPlaneStaysOnCircle) {
+  // Centre (x=0, z=0), radius 10, from z = +10 to x = +10, a quarter turn; Y stays at 7.
+  const auto a = make_arc(xyz(0, 7, 10), xyz(10, 7, 0), kZ, kX, 0, 0, 1);
+  EXPECT_NEAR(a.sweep, std::numbers::pi / 2, 1e-12);
+  EXPECT_NEAR(a.length, 10 * std::numbers::pi / 2, 1e-12);
+  for (int i = 0; i <= 500; ++i) {
+    const auto p = a.point(a.length * i / 500.0);
+    EXPECT_NEAR(std::hypot(p[kX], p[kZ]), 10, 1e-9);
+    EXPECT_EQ(p[kY], 7);
+    EXPECT_NEAR(core::norm(a.tangent(a.length * i / 500.0)), 1, 1e-12);
+  }
+  // Leaving z = +10 counter-clockwise (seen from +Y) the tool moves towards +X.
+  EXPECT_NEAR(a.tangent(0)[kX], 1, 1e-12);
+  // Curvature points to the centre, magnitude 1/R, in the ZX plane only.
+  const auto k = a.curvature(a.length / 2);
+  EXPECT_NEAR(core::norm(k), 0.1, 1e-12);
+  EXPECT_EQ(k[kY], 0);
+  const auto mid = a.point(a.length / 2);
+  EXPECT_NEAR(core::dot(k, mid), -0.1 * 10, 1e-9);  // k ∥ -(p - c)
+  core::Vec lo, hi;
+  a.bounds(lo, hi);
+  EXPECT_NEAR(hi[kX], 10, 1e-12);
+  EXPECT_NEAR(hi[kZ], 10, 1e-12);
+  EXPECT_NEAR(lo[kX], 0, 1e-12);
+}
+
+TEST(GeometryPlanes, G18_HelixMovesYLinearly) {
+  // Full turn clockwise (turns = -1) about the Y axis with Y rising 4 mm.
+  const auto h = make_arc(xyz(0, 0, 5), xyz(0, 4, 5), kZ, kX, 0, 0, -1);
+  EXPECT_NEAR(h.sweep, -2 * std::numbers::pi, 1e-12);
+  EXPECT_NEAR(h.length, std::hypot(2 * std::numbers::pi * 5, 4.0), 1e-9);
+  for (int i = 0; i <= 100; ++i) {
+    const double s = h.length * i / 100.0;
+    const auto p = h.point(s);
+    EXPECT_NEAR(p[kY], 4.0 * i / 100.0, 1e-12);
+    EXPECT_NEAR(std::hypot(p[kX], p[kZ]), 5, 1e-9);
+  }
+  EXPECT_NEAR(h.tangent(0)[kX], -2 * std::numbers::pi * 5 / h.length, 1e-12);  // clockwise: towards -X
+  EXPECT_NEAR(h.tangent(0)[kY], 4 / h.length, 1e-12);
+}
+
+// G19: plane (Y, Z), counter-clockwise seen from +X goes from Y towards Z.
+TEST(GeometryPlanes, G19_ArcInYzPlaneStaysOnCircle) {
+  const auto a = make_arc(xyz(3, 12, 2), xyz(3, 2, 12), kY, kZ, 2, 2, 1);  // centre (y=2, z=2), R = 10
+  EXPECT_NEAR(a.radius, 10, 1e-12);
+  EXPECT_NEAR(a.sweep, std::numbers::pi / 2, 1e-12);
+  for (int i = 0; i <= 500; ++i) {
+    const auto p = a.point(a.length * i / 500.0);
+    EXPECT_NEAR(std::hypot(p[kY] - 2, p[kZ] - 2), 10, 1e-9);
+    EXPECT_EQ(p[kX], 3);
+  }
+  EXPECT_NEAR(a.tangent(0)[kZ], 1, 1e-12);
+  EXPECT_NEAR(a.distance_to(xyz(3, 2 + 11 * std::sqrt(0.5), 2 + 11 * std::sqrt(0.5))), 1, 1e-9);
+}
+
+TEST(GeometryPlanes, G19_HelixMovesXLinearly) {
+  const auto h = make_arc(xyz(0, 10, 0), xyz(-6, 10, 0), kY, kZ, 0, 0, 2);  // two turns, X falls 6
+  EXPECT_NEAR(h.sweep, 4 * std::numbers::pi, 1e-12);
+  EXPECT_NEAR(h.length, std::hypot(4 * std::numbers::pi * 10, 6.0), 1e-9);
+  const auto q = h.point(h.length / 8);  // a quarter turn in
+  EXPECT_NEAR(q[kY], 0, 1e-9);
+  EXPECT_NEAR(q[kZ], 10, 1e-9);
+  EXPECT_NEAR(q[kX], -0.75, 1e-12);
+  EXPECT_NEAR(core::norm(h.curvature(1.0)), 10 * std::pow(4 * std::numbers::pi / h.length, 2), 1e-12);
+}
