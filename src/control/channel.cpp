@@ -71,7 +71,9 @@ void Channel::update(double dt_s) {
       ++pc_;
       continue;
     }
-    // Non-motion instructions act when the motion before them has finished.
+    // Non-motion instructions act when the motion before them has finished; the planner is told that
+    // no more motion follows for now, so the path is planned to stop there.
+    planner_.flush();
     if (!interp_.idle()) return;
     if (const auto* d = std::get_if<program::Dwell>(&op)) {
       ++pc_;
@@ -92,6 +94,7 @@ void Channel::update(double dt_s) {
       ++pc_;
     }
   }
+  if (pc_ >= ins.size()) planner_.flush();  // a program may end on a motion
   if (pc_ >= ins.size() && interp_.idle() && dwell_left_s_ <= 0) state_ = ChannelState::Finished;
 }
 

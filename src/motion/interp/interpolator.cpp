@@ -1,46 +1,132 @@
-// Sampling of timed segments.
+// Execution of the look-ahead window: lazy forward pass, override, hold, stops.
 #include "motion/interp/interpolator.hpp"
+
+#include <algorithm>
+#include <cmath>
 
 namespace softmc::motion {
 
 // rt-safe
+void Interpolator::set_feed_override(double factor) {
+  override_ = std::clamp(std::isfinite(factor) ? factor : 0.0, 0.0, config_.max_feed_override);
+}
+
+// rt-safe
+void Interpolator::request_stop(StopKind kind) {
+  if (kind == StopKind::None || queue_.empty()) return;
+  if (stop_ != StopKind::Emergency) stop_ = kind;  // an emergency stop is never weakened
+}
+
+// rt-safe. Path speed the feed and override ask for on `b`, under its hard cap.
+double Interpolator::soft_speed(const Block& b) const {
+  if (b.rapid) return b.v_cap_mm_s * std::min(1.0, override_);
+  return std::min(b.v_cap_mm_s, b.feed_mm_s * override_);
+}
+
+// rt-safe
+Interpolator::Inputs Interpolator::inputs(const Block& b) const {
+  const auto& ring = queue_.ring();
+  Inputs in;
+  const bool h = halt();
+  in.vc = h ? 0.0 : soft_speed(b);
+  in.acc = b.a_mm_s2 * (stop_ == StopKind::Emergency ? config_.emergency_accel_scale : 1.0);
+  if (ring.size() >= 2) {
+    const Block& next = ring.at(1);
+    in.v1_max = std::sqrt(next.v2_entry_max);
+    in.v1_want = h ? 0.0 : std::min(in.vc, soft_speed(next));
+  }
+  return in;
+}
+
+// rt-safe. A new plan for the rest of `b` from the state sampled now.
+void Interpolator::replan(const Block& b, const Inputs& in) {
+  double s = 0;
+  if (started_) {
+    const ProfileState st = ramp_.at(t_);
+    s = st.s;
+    v_ = st.v;
+  }
+  ramp_ = plan_ramp(b.length - s, v_, in.vc, in.v1_want, in.v1_max, in.acc);
+  ramp_.s0 = s;
+  t_ = 0;
+  in_ = in;
+  started_ = true;
+}
+
+// rt-safe
+void Interpolator::rest_at_end() {
+  sp_.vel = Vec{};
+  sp_.acc = Vec{};
+  sp_.path_v = 0;
+  sp_.moving = false;
+  started_ = false;
+  t_ = 0;
+  v_ = 0;
+}
+
+// rt-safe
 const Setpoint& Interpolator::step(double dt) {
-  if (queue_.empty()) {
-    sp_.vel = Vec{};
-    sp_.acc = Vec{};
-    sp_.path_v = 0;
-    sp_.moving = false;
-    t_in_segment_ = 0;
+  queue_.settle();  // the planner's backward pass over what was pushed since the last cycle
+  auto& ring = queue_.ring();
+  if (ring.empty()) {
+    if (stop_ != StopKind::None) {  // stopped before anything was committed: drop the pending block
+      queue_.clear();
+      stop_ = StopKind::None;
+      stopped_ = true;
+    }
+    rest_at_end();
     return sp_;
   }
-  t_in_segment_ += dt;
-  // Drop finished segments; their leftover time goes into the next one.
-  while (!queue_.empty() && t_in_segment_ >= queue_.front().profile.duration()) {
-    const TimedSegment& done = queue_.front();
-    sp_.pos = done.geom.end;
-    t_in_segment_ -= done.profile.duration();
-    sp_.tag = done.tag;
-    queue_.pop();
+  if (started_) {
+    const Inputs in = inputs(ring.front());
+    if (!(in == in_)) replan(ring.front(), in);
   }
-  if (queue_.empty()) {
-    // Ended exactly at the last target: stand still there.
-    sp_.vel = Vec{};
-    sp_.acc = Vec{};
-    sp_.path_v = 0;
-    sp_.moving = false;
-    t_in_segment_ = 0;
-    return sp_;
+  double left = dt;
+  for (int n = 0; n < config_.max_blocks_per_cycle; ++n) {
+    const Block& b = ring.front();
+    if (!started_) replan(b, inputs(b));
+    const double rest = ramp_.duration() - t_;
+    if (left < rest) {
+      t_ += left;
+      const ProfileState st = ramp_.at(t_);
+      const Vec tan = b.tangent(st.s);
+      sp_.pos = b.point(st.s);
+      sp_.vel = tan * st.v;
+      sp_.acc = tan * st.a + b.curvature(st.s) * (st.v * st.v);
+      sp_.path_v = st.v;
+      sp_.moving = true;
+      sp_.rapid = b.rapid;
+      sp_.tag = b.tag;
+      if (stop_ != StopKind::None && st.v <= 0) {  // P-5: at rest on the path, the stop is done
+        queue_.clear();
+        stop_ = StopKind::None;
+        stopped_ = true;
+        rest_at_end();
+      }
+      return sp_;
+    }
+    // The block ends within this cycle: its leftover time goes into the next one.
+    left -= rest;
+    v_ = ramp_.v1;
+    sp_.pos = b.end();
+    sp_.tag = b.tag;
+    ring.pop();
+    started_ = false;
+    if (ring.empty()) {  // the tail ends at rest: exactly on the last programmed point
+      if (stop_ != StopKind::None) {
+        queue_.clear();
+        stop_ = StopKind::None;
+        stopped_ = true;
+      }
+      rest_at_end();
+      return sp_;
+    }
   }
-  const TimedSegment& seg = queue_.front();
-  const ProfileState st = seg.profile.at(t_in_segment_);
-  sp_.pos = seg.geom.point(st.s);
-  const Vec t = seg.geom.tangent(st.s);
-  sp_.vel = t * st.v;
-  sp_.acc = t * st.a + seg.geom.curvature(st.s) * (st.v * st.v);
-  sp_.path_v = st.v;
-  sp_.moving = true;
-  sp_.rapid = seg.rapid;
-  sp_.tag = seg.tag;
+  // Budget spent: the rest of this cycle's time is dropped (the path runs slower, never faster).
+  const Block& b = ring.front();
+  sp_.pos = b.point(0);
+  sp_.vel = b.tangent(0) * v_;
+  sp_.path_v = v_;
   return sp_;
 }
 

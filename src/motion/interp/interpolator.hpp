@@ -1,10 +1,18 @@
-// The interpolator: samples the planner's queue of timed segments once per cycle into setpoints.
+// The interpolator: executes the look-ahead window once per cycle into setpoints — the lazy forward
+// pass of the planner, feed override, feed hold, motion enable and stop ramps (P-2, P-5, P-8).
+//
+//   window: [front | 1 | 2 | ...]     front: VelocityRamp from the actual (s, v) to the exit limit
+//             ▲ s, v                  v2_entry_max of block 1 (0 when it is the last), re-planned
+//             └ sampled at t          whenever an input changes: O(1) per cycle, no allocation
+//
+// Time left over at the end of a block carries into the next one (several short blocks may pass in
+// one cycle), so block boundaries are not rounded to the cycle.
 #pragma once
 
 #include <cstdint>
 
-#include "core/ring.hpp"
-#include "motion/planner/planner.hpp"
+#include "motion/interp/velocity_ramp.hpp"
+#include "motion/planner/plan_queue.hpp"
 
 namespace softmc::motion {
 
@@ -13,27 +21,74 @@ struct Setpoint {
   Vec vel;           // mm/s, per axis
   Vec acc;           // mm/s², per axis
   double path_v = 0;  // mm/s along the path
-  bool moving = false;   // a segment is being executed
+  bool moving = false;   // a block is being executed (also while held at rest on the path)
   bool rapid = false;
-  std::uint32_t tag = 0;  // tag of the segment the setpoint lies on
+  std::uint32_t tag = 0;  // tag of the block the setpoint lies on
+};
+
+// P-5: a normal stop uses the blocks' normal acceleration, an emergency stop that times this factor.
+enum class StopKind : std::uint8_t { None, Normal, Emergency };
+
+struct InterpolatorConfig {
+  double max_feed_override = 2.0;      // P-8: the override is clamped to [0, this]
+  double emergency_accel_scale = 1.0;  // P-5: emergency ramp relative to the normal one
+  int max_blocks_per_cycle = 512;      // bounds one cycle's work; 512 blocks per ms = 512k blocks/s
 };
 
 class Interpolator {
  public:
-  Interpolator(core::Ring<TimedSegment>& queue, const Vec& start) : queue_(queue) { sp_.pos = start; }
+  Interpolator(PlanQueue& queue, const Vec& start, const InterpolatorConfig& config = {})
+      : queue_(queue), config_(config) {
+    sp_.pos = start;
+  }
 
-  // rt-safe. Advances time by dt and returns the new setpoint. Time left over at the end of a
-  // segment carries into the next one, so segment boundaries are not rounded to the cycle.
+  // rt-safe. Advances time by dt and returns the new setpoint.
   const Setpoint& step(double dt);
 
+  // rt-safe. P-8: feed override factor (1 = programmed feed), acting from the next step with the
+  // ramps kept; rapids follow it up to 1. No axis ever exceeds its own speed limit.
+  void set_feed_override(double factor);
+  // rt-safe. Feed hold: brake to rest on the path; release resumes from there.
+  void set_feed_hold(bool hold) { hold_ = hold; }
+  // rt-safe. P-2: motion enable of the path's axes; dropping it brakes to rest on the path with the
+  // normal ramp, restoring it resumes on the path without a jump.
+  void set_motion_enable(bool enable) { enable_ = enable; }
+  // rt-safe. P-5: brake to rest on the path, then drop everything planned.
+  void request_stop(StopKind kind);
+
   const Setpoint& setpoint() const { return sp_; }
-  // True while there is nothing left to move.
+  // True while there is nothing left to move (nothing committed, nothing pending).
   bool idle() const { return queue_.empty(); }
+  // True when a stop has ended, until acknowledge_stop().
+  bool stopped() const { return stopped_; }
+  void acknowledge_stop() { stopped_ = false; }
+  bool stopping() const { return stop_ != StopKind::None; }
+  double feed_override() const { return override_; }
+  // At rest on the path because of a hold, an enable drop or a stop in progress.
+  bool halted_at_rest() const { return sp_.moving && sp_.path_v == 0 && halt(); }
 
  private:
-  core::Ring<TimedSegment>& queue_;
-  double t_in_segment_ = 0;
+  struct Inputs {
+    double vc = 0, v1_want = 0, v1_max = 0, acc = 0;
+    friend bool operator==(const Inputs&, const Inputs&) = default;
+  };
+  bool halt() const { return hold_ || !enable_ || stop_ != StopKind::None; }
+  double soft_speed(const Block& b) const;
+  Inputs inputs(const Block& b) const;
+  void replan(const Block& b, const Inputs& in);
+  void rest_at_end();
+
+  PlanQueue& queue_;
+  InterpolatorConfig config_;
   Setpoint sp_;
+  bool started_ = false;  // the front block has begun
+  VelocityRamp ramp_;
+  double t_ = 0;          // time since ramp_ began
+  double v_ = 0;          // path speed carried across block boundaries
+  Inputs in_;
+  double override_ = 1;
+  bool hold_ = false, enable_ = true, stopped_ = false;
+  StopKind stop_ = StopKind::None;
 };
 
 }  // namespace softmc::motion

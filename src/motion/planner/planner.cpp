@@ -1,11 +1,17 @@
-// Exact-stop planning of single segments under per-axis limits.
+// Look-ahead planning: validation, corner blends, junction limits, incremental backward pass.
 #include "motion/planner/planner.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 namespace softmc::motion {
+
+namespace {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kMinLength_mm = 1e-9;  // shorter pieces carry no motion worth a block
+}  // namespace
 
 const char* to_string(PlanResult r) {
   switch (r) {
@@ -19,8 +25,8 @@ const char* to_string(PlanResult r) {
 }
 
 // rt-safe
-SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim) {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
+SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double cn) {
+  const double ct = std::sqrt(std::max(0.0, 1 - cn * cn));
   double v = kInf, a = kInf;
   if (g.kind == SegmentKind::Line) {
     // Each axis moves at v·|dir_i|: the path speed is limited by v_max_i / |dir_i|, likewise acceleration.
@@ -32,16 +38,15 @@ SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim) {
     }
   } else {
     // Arc: the tangent turns through every direction of the plane, so an in-plane axis may carry the
-    // whole in-plane speed. The acceleration budget of the in-plane axes is split evenly between the
-    // tangential and the centripetal part: |a_t·t_i + κv²·n_i| ≤ √(a_t² + (κv²)²) ≤ a_max.
+    // whole in-plane speed. An in-plane axis sees a_t·t_i + κv²·n_i; with a_t·inplane ≤ ct·a and
+    // κv² ≤ cn·a its magnitude stays ≤ √(ct² + cn²)·a = a.
     const double inplane = g.length > 0 ? g.radius * std::abs(g.sweep) / g.length : 0;
     const double kappa = g.length > 0 ? g.radius * (g.sweep / g.length) * (g.sweep / g.length) : 0;
     for (std::size_t i : {std::size_t{g.axis0}, std::size_t{g.axis1}}) {
       if (inplane < 1e-12) break;
       v = std::min(v, lim.axis[i].v_max_mm_s / inplane);
-      const double a_axis = lim.axis[i].a_max_mm_s2 / std::sqrt(2.0);
-      a = std::min(a, a_axis / inplane);
-      if (kappa > 0) v = std::min(v, std::sqrt(a_axis / kappa));
+      a = std::min(a, ct * lim.axis[i].a_max_mm_s2 / inplane);
+      if (kappa > 0) v = std::min(v, std::sqrt(cn * lim.axis[i].a_max_mm_s2 / kappa));
     }
     for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
       const double d = std::abs(g.linear[i]);
@@ -53,13 +58,36 @@ SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim) {
   return {v, a};
 }
 
-Planner::Planner(const MachineLimits& limits, std::size_t queue_capacity) : limits_(limits), queue_(queue_capacity) {}
+// rt-safe
+SegmentLimits blend_limits(const BlendArc& b, const MachineLimits& lim, double cn) {
+  // On p(φ) = c + R(cos φ·u + sin φ·w) axis i's tangent and normal components are amp_i·(sin, cos)
+  // of one phase, amp_i = √(u_i² + w_i²): the arc bound above with `inplane` replaced by amp_i.
+  const double ct = std::sqrt(std::max(0.0, 1 - cn * cn));
+  double v = kInf, a = kInf;
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
+    const double amp = std::hypot(b.u[i], b.w[i]);
+    if (amp < 1e-12) continue;
+    v = std::min({v, lim.axis[i].v_max_mm_s / amp, std::sqrt(cn * lim.axis[i].a_max_mm_s2 * b.radius / amp)});
+    a = std::min(a, ct * lim.axis[i].a_max_mm_s2 / amp);
+  }
+  return {v, a};
+}
+
+Planner::Planner(const MachineLimits& limits, std::size_t queue_capacity, const PlannerConfig& config)
+    : limits_(limits), config_(config), queue_(queue_capacity) {}
+
+// rt-safe
+double Planner::plan_cap_mm_s(const Block& b) const {
+  return std::min(b.v_cap_mm_s, b.feed_mm_s * config_.max_feed_override);
+}
 
 // rt-safe
 PlanResult Planner::push(const PathRequest& req) {
   if (queue_.full()) return PlanResult::QueueFull;
   if (!req.rapid && !(req.feed_mm_s > 0)) return PlanResult::BadFeed;
-  // Validate, then act: a segment that would leave the travel never enters the queue.
+  // Validate, then act: a segment that would leave the travel never enters the queue (P-9, arcs
+  // included: bounds() holds the extreme points an arc passes over). Blends stay inside the convex
+  // hull of the corner they cut, so checking the programmed curves covers them.
   Vec lo, hi;
   req.geom.bounds(lo, hi);
   for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
@@ -70,23 +98,101 @@ PlanResult Planner::push(const PathRequest& req) {
     constexpr double kEps = 1e-9;
     if (lo[i] < limits_.axis[i].min_mm - kEps || hi[i] > limits_.axis[i].max_mm + kEps) return PlanResult::OutsideTravel;
   }
-  const auto sl = segment_limits(req.geom, limits_);
-  double v = sl.v_max_mm_s;
-  if (!req.rapid) v = std::min(v, req.feed_mm_s);
-  TimedSegment ts;
-  ts.geom = req.geom;
-  ts.rapid = req.rapid;
-  ts.tag = req.tag;
-  if (req.geom.length <= 0) {
-    ts.profile = Trapezoid{};  // zero length, zero duration
-  } else {
-    if (!std::isfinite(v) || !std::isfinite(sl.a_max_mm_s2) || !(v > 0)) return PlanResult::Infeasible;
-    auto p = plan_trapezoid(req.geom.length, 0, 0, v, sl.a_max_mm_s2);
-    if (!p) return PlanResult::Infeasible;
-    ts.profile = *p;
+  if (!(req.geom.length > kMinLength_mm)) return PlanResult::Ok;  // nothing to move
+  const auto sl = segment_limits(req.geom, limits_, config_.centripetal_share);
+  if (!std::isfinite(sl.v_max_mm_s) || !std::isfinite(sl.a_max_mm_s2) || !(sl.v_max_mm_s > 0) ||
+      !(sl.a_max_mm_s2 > 0))
+    return PlanResult::Infeasible;
+
+  Block b;
+  b.seg = req.geom;
+  b.rapid = req.rapid;
+  b.tag = req.tag;
+  b.length = req.geom.length;
+  b.a_mm_s2 = sl.a_max_mm_s2;
+  b.v_cap_mm_s = sl.v_max_mm_s;
+  b.feed_mm_s = req.rapid ? kInf : req.feed_mm_s;
+  const double full_length = b.length;
+
+  if (queue_.has_pending_) {
+    Block& a = queue_.pending_;
+    const double tol = req.tolerance_mm < 0 ? config_.tolerance_mm : req.tolerance_mm;
+    Block blend;
+    bool blended = false;
+    if (tol > 0 && !a.is_blend && a.seg.kind == SegmentKind::Line && b.seg.kind == SegmentKind::Line) {
+      // Deflection: 0 = straight on, π = reversal (from the chord |t2 − t1| = 2 sin(δ/2): exact near 0).
+      const double chord = core::norm(b.seg.dir - a.seg.dir);
+      const double delta = 2 * std::asin(std::min(1.0, chord / 2));
+      if (delta > config_.tangent_rad && delta < std::numbers::pi - 1e-6) {
+        // Arc tangent to both lines whose midpoint lies `tol` from the corner:
+        // tol = R·(1/cos h − 1), h = δ/2  →  R = tol·cos h / (1 − cos h); it touches the lines at
+        // d = R·tan h from the corner. Each line gives at most half of its length to a blend, so
+        // the blends at its two ends never overlap (then R shrinks and the deviation with it).
+        const double h = delta / 2;
+        const double one_minus_cos = 2 * std::sin(h / 2) * std::sin(h / 2);
+        double r = tol * std::cos(h) / one_minus_cos;
+        double d = r * std::tan(h);
+        const double d_max = std::min(queue_.pending_full_length_ / 2, b.length / 2);
+        if (d > d_max) {
+          d = d_max;
+          r = d / std::tan(h);
+        }
+        if (d > kMinLength_mm && r > kMinLength_mm) {
+          const Vec corner = a.seg.end;
+          const Vec p1 = corner - a.seg.dir * d;
+          const Vec p2 = corner + b.seg.dir * d;
+          blend.is_blend = true;
+          blend.blend = make_blend_arc(p1, a.seg.dir, b.seg.dir, r, delta);
+          blend.length = r * delta;
+          const auto bl = blend_limits(blend.blend, limits_, config_.centripetal_share);
+          blend.a_mm_s2 = bl.a_max_mm_s2;
+          blend.v_cap_mm_s = bl.v_max_mm_s;
+          blend.rapid = a.rapid && b.rapid;
+          blend.feed_mm_s = std::min(a.feed_mm_s, b.feed_mm_s);
+          blend.tag = a.tag;
+          // Shorten both lines (same direction, so their limits stay).
+          const Vec a_start = a.seg.start;
+          a.seg = make_line(a_start, p1);
+          a.length = a.seg.length;
+          b.seg = make_line(p2, b.seg.end);
+          b.length = b.seg.length;
+          blended = true;
+        }
+      }
+    }
+    if (a.length > kMinLength_mm) commit(a);
+    if (blended) commit(blend);
   }
-  queue_.push(ts);
+  queue_.pending_ = b;
+  queue_.pending_full_length_ = full_length;
+  queue_.has_pending_ = true;
   return PlanResult::Ok;
+}
+
+// rt-safe
+void Planner::flush() {
+  if (!queue_.has_pending_) return;
+  queue_.has_pending_ = false;
+  if (queue_.pending_.length > kMinLength_mm) commit(queue_.pending_);
+}
+
+// rt-safe. Appends a block: its junction limit with the block before it, then the backward pass.
+void Planner::commit(const Block& b) {
+  auto& ring = queue_.ring_;
+  ring.push(b);  // room was checked by push()
+  Block& nb = ring.back();
+  if (ring.size() == 1) {
+    nb.v2_junction = 0;  // the machine is at rest when the window is empty (its tail ends at rest)
+  } else {
+    const Block& prev = ring.at(ring.size() - 2);
+    // Tangent junctions keep the speed both neighbours allow; any other corner that was not blended
+    // (G61, arcs, reversals) is an exact stop: a direction change at speed needs infinite acceleration.
+    // |t_out − t_in| is the turning angle (chord of unit vectors), without acos's loss near 0.
+    const double turn = core::norm(prev.tangent(prev.length) - nb.tangent(0));
+    const double cap = std::min(plan_cap_mm_s(prev), plan_cap_mm_s(nb));
+    nb.v2_junction = turn <= config_.tangent_rad ? cap * cap : 0.0;
+  }
+  queue_.unsettled_ = std::min(queue_.unsettled_ + 1, ring.size());
 }
 
 }  // namespace softmc::motion

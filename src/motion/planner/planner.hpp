@@ -1,16 +1,23 @@
-// The planner: turns geometric segments with a requested feed into timed, profiled segments.
+// The look-ahead planner: geometric requests in, blocks with corner blends and backward-pass speed
+// limits out, into a fixed-size window the interpolator executes (docs/planner.md).
 //
-// Today it plans each segment on its own, from rest to rest (exact stop), with the path speed and
-// acceleration limited so that no axis exceeds its own limits along the segment. The look-ahead
-// planner replaces `plan_one` and keeps this interface: requests in, a queue of TimedSegments out.
+//   push(A) push(B) push(C) ...                      flush()  (program end, dwell, M function)
+//      │  blend A|B, commit A' and the blend arc        │  commit the pending block: it ends at rest
+//      ▼                                                ▼
+//   ring: A' (A|B) B' (B|C) ...  ◄── backward pass from the tail (exit 0) up to the first block whose
+//                                    entry limit does not change (grbl's planner.c, incremental),
+//                                    run once per cycle by the interpolator (PlanQueue::settle)
+//
+// The forward pass is not stored: the interpolator does it lazily, one block at a time, from the
+// actual state (speed, override, hold), so override and hold never require re-planning the window.
 #pragma once
 
 #include <cstdint>
 
-#include "core/ring.hpp"
 #include "motion/geometry/segment.hpp"
 #include "motion/limits.hpp"
-#include "motion/profile/trapezoid.hpp"
+#include "motion/planner/block.hpp"
+#include "motion/planner/plan_queue.hpp"
 
 namespace softmc::motion {
 
@@ -18,14 +25,18 @@ struct PathRequest {
   Segment geom;
   double feed_mm_s = 0;  // requested path speed; ignored for rapids
   bool rapid = false;
-  std::uint32_t tag = 0;  // the instruction index it came from, carried to the setpoints
+  std::uint32_t tag = 0;        // the instruction index it came from, carried to the setpoints
+  double tolerance_mm = -1;     // blend tolerance P at the corner this move starts with:
+                                // < 0 = the configured default (G64 without P), 0 = exact stop (G61)
 };
 
-struct TimedSegment {
-  Segment geom;
-  Trapezoid profile;
-  bool rapid = false;
-  std::uint32_t tag = 0;
+struct PlannerConfig {
+  double tolerance_mm = 0.05;       // default P: largest distance of the path from a programmed corner
+  double max_feed_override = 2.0;   // the backward pass plans for this, so any override up to it is safe
+  double tangent_rad = 1e-9;        // junctions turning less than this are tangent (no blend, no stop)
+  // Split of an axis's acceleration on curved pieces: centripetal share cn, tangential share ct,
+  // cn² + ct² = 1 so that |a_t·t_i + a_n·n_i| ≤ a_max_i at every point of a circle.
+  double centripetal_share = 0.8;
 };
 
 enum class PlanResult : std::uint8_t { Ok, QueueFull, BadFeed, OutsideTravel, Infeasible };
@@ -36,22 +47,33 @@ struct SegmentLimits {
   double v_max_mm_s = 0;
   double a_max_mm_s2 = 0;
 };
-SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim);
+SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double centripetal_share = 0.8);
+SegmentLimits blend_limits(const BlendArc& b, const MachineLimits& lim, double centripetal_share = 0.8);
 
 class Planner {
  public:
-  // Configuration time: sizes the queue.
-  Planner(const MachineLimits& limits, std::size_t queue_capacity);
+  // Configuration time: sizes the look-ahead window (blocks; a corner makes two).
+  Planner(const MachineLimits& limits, std::size_t queue_capacity, const PlannerConfig& config = {});
 
-  // rt-safe. Plans `req` and appends it to the queue.
+  // rt-safe. Validates `req` (feed, soft limits on the whole curve, axis limits), then plans it in.
+  // A zero-length move is accepted and produces nothing.
   PlanResult push(const PathRequest& req);
+  // rt-safe. No more motion for now: the pending block is committed and the path ends at rest there.
+  void flush();
 
-  core::Ring<TimedSegment>& queue() { return queue_; }
+  PlanQueue& queue() { return queue_; }
+  const PlanQueue& queue() const { return queue_; }
   const MachineLimits& limits() const { return limits_; }
+  const PlannerConfig& config() const { return config_; }
+  // Speed the backward pass plans a block for: hard cap, and the feed at the largest override.
+  double plan_cap_mm_s(const Block& b) const;
 
  private:
+  void commit(const Block& b);
+
   MachineLimits limits_;
-  core::Ring<TimedSegment> queue_;
+  PlannerConfig config_;
+  PlanQueue queue_;
 };
 
 }  // namespace softmc::motion

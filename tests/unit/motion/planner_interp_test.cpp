@@ -1,4 +1,4 @@
-// Planner (exact stop) and interpolator: per-axis limits, soft limits, setpoints on the path, exact ends.
+// Planner and interpolator basics: per-axis limits, soft limits, setpoints on the path, exact ends.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -38,9 +38,10 @@ TEST(Planner, DiagonalSpeedLimitedBySlowestAxis) {
 TEST(Planner, ArcCentripetalLimit) {
   auto lim = xy_limits();
   lim.axis[1].v_max_mm_s = 100;
-  // R = 1 mm: v² / R ≤ a/√2 → v ≤ √(1000/√2) ≈ 26.6 mm/s.
+  // R = 1 mm: v² / R ≤ 0.8·a (the centripetal share) → v ≤ √800 ≈ 28.3 mm/s; tangential 0.6·a.
   const auto sl = segment_limits(make_arc(xy(1, 0), xy(-1, 0), 0, 1, 0, 0, 1), lim);
-  EXPECT_NEAR(sl.v_max_mm_s, std::sqrt(1000 / std::sqrt(2.0)), 1e-9);
+  EXPECT_NEAR(sl.v_max_mm_s, std::sqrt(800.0), 1e-9);
+  EXPECT_NEAR(sl.a_max_mm_s2, 600.0, 1e-9);
 }
 
 TEST(Planner, P9_SoftLimitRefusesArcLeavingTravel) {
@@ -52,11 +53,14 @@ TEST(Planner, P9_SoftLimitRefusesArcLeavingTravel) {
 }
 
 TEST(Planner, QueueFullIsReported) {
-  Planner p(xy_limits(), 2);
+  Planner p(xy_limits(), 3);
+  // Three lines with corners: the first corner commits the first line and a blend (2 of 3 blocks).
+  EXPECT_EQ(p.push({make_line(xy(0, 0), xy(1, 0)), 10, false, 0}), PlanResult::Ok);
+  EXPECT_EQ(p.push({make_line(xy(1, 0), xy(1, 1)), 10, false, 1}), PlanResult::Ok);
+  EXPECT_EQ(p.queue().ring().size(), 2u);
+  EXPECT_TRUE(p.queue().full());
+  EXPECT_EQ(p.push({make_line(xy(1, 1), xy(0, 1)), 10, false, 2}), PlanResult::QueueFull);
   PathRequest r{make_line(xy(0, 0), xy(1, 0)), 10, false, 0};
-  EXPECT_EQ(p.push(r), PlanResult::Ok);
-  EXPECT_EQ(p.push(r), PlanResult::Ok);
-  EXPECT_EQ(p.push(r), PlanResult::QueueFull);
   r.feed_mm_s = 0;
   EXPECT_EQ(Planner(xy_limits(), 2).push(r), PlanResult::BadFeed);
 }
@@ -64,6 +68,7 @@ TEST(Planner, QueueFullIsReported) {
 TEST(Interpolator, LineEndsExactlyAndRespectsLimits) {
   Planner p(xy_limits(), 8);
   ASSERT_EQ(p.push({make_line(xy(0, 0), xy(100, 30)), 1e9, false, 7}), PlanResult::Ok);
+  p.flush();
   Interpolator in(p.queue(), xy(0, 0));
   const double dt = 0.001;
   core::Vec prev = xy(0, 0), prev_v{};
@@ -87,6 +92,7 @@ TEST(Interpolator, LineEndsExactlyAndRespectsLimits) {
 TEST(Interpolator, T2_ArcSetpointsOnCircleWithin1nm) {
   Planner p(xy_limits(), 8);
   ASSERT_EQ(p.push({make_arc(xy(40, 10), xy(50, 20), 0, 1, 40, 20, 1), 8, false, 0}), PlanResult::Ok);
+  p.flush();
   Interpolator in(p.queue(), xy(40, 10));
   double worst = 0;
   while (!in.idle()) {

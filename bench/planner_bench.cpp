@@ -1,0 +1,78 @@
+// Look-ahead planner throughput (segments planned per CPU second) and the cost of one cycle.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <vector>
+
+#include "motion/interp/interpolator.hpp"
+#include "motion/planner/planner.hpp"
+
+using namespace softmc;
+
+namespace {
+motion::MachineLimits xyz() {
+  motion::MachineLimits m;
+  for (int i = 0; i < 3; ++i) m.axis[i] = {200, 2000, 0, -1e6, 1e6};
+  m.axis[6] = m.axis[0];  // U: a 4th axis
+  return m;
+}
+
+// CAM-like closed polyline: 0.05 mm chords of a 50 mm circle in XY with Z and U swinging along
+// (4 axes), so it can be run round and round.
+std::vector<motion::PathRequest> polyline(double chord_mm) {
+  std::vector<motion::PathRequest> v;
+  const int n = static_cast<int>(2 * 3.141592653589793 * 50 / chord_mm);
+  auto pt = [n](int k) {
+    const double a = 2 * 3.141592653589793 * (k % n) / n;
+    core::Vec p{};
+    p[0] = 50 * std::sin(a);
+    p[1] = 50 - 50 * std::cos(a);
+    p[2] = 2 - 2 * std::cos(a);
+    p[6] = 3 * std::sin(a);
+    return p;
+  };
+  core::Vec at = pt(0);
+  for (int k = 1; k <= n; ++k) {
+    const core::Vec to = pt(k);
+    v.push_back({motion::make_line(at, to), 100, false, static_cast<std::uint32_t>(k)});
+    at = to;
+  }
+  return v;
+}
+}  // namespace
+
+// Planning only: push (validation, blend, junction, incremental backward pass); the consumer pops.
+static void BM_PlanLines(benchmark::State& state) {
+  const auto reqs = polyline(0.05);
+  motion::Planner planner(xyz(), static_cast<std::size_t>(state.range(0)));
+  std::size_t k = 0;
+  for (auto _ : state) {
+    while (planner.queue().full()) planner.queue().ring().pop();  // the interpolator's share, O(1)
+    benchmark::DoNotOptimize(planner.push(reqs[k++ % reqs.size()]));
+    if (k % 16 == 0) planner.queue().settle();  // the backward pass, once per cycle of 16 pushes
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()));
+  state.counters["segments_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_PlanLines)->Arg(256)->Arg(10'000);
+
+// One interpolation cycle over the blended polyline (4 axes), refilled outside the timing.
+static void BM_LookaheadCycle4Axes(benchmark::State& state) {
+  const auto reqs = polyline(0.05);
+  motion::Planner planner(xyz(), 4096);
+  motion::Interpolator in(planner.queue(), reqs.front().geom.start);
+  std::size_t k = 0;
+  const auto refill = [&] {
+    while (!planner.queue().full()) planner.push(reqs[k++ % reqs.size()]);
+  };
+  refill();
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(in.step(0.001).pos);
+    if (planner.queue().size() < 1024) {
+      state.PauseTiming();
+      refill();
+      state.ResumeTiming();
+    }
+  }
+}
+BENCHMARK(BM_LookaheadCycle4Axes);

@@ -1,0 +1,57 @@
+// A look-ahead block: one piece of path (program line/arc, or a corner blend) with its speed limits.
+//
+//   programmed:  A ───────────●─────────── B        ● = corner, P = blend tolerance
+//   planned:     A ──────╮  (P)                     the corner is cut by a circular arc tangent to
+//                        ╰───────────── B           both lines; A and B are shortened by d each
+//
+// The interpolator samples a Block through point/tangent/curvature at arc length s, whatever its kind.
+#pragma once
+
+#include <cstdint>
+
+#include "core/axes.hpp"
+#include "motion/geometry/segment.hpp"
+
+namespace softmc::motion {
+
+// A circular arc in any plane of axis space (a corner blend between two lines in 3-D need not lie
+// in a coordinate plane): p(φ) = centre + R·(cos φ·u + sin φ·w), φ ∈ [0, sweep], u ⟂ w unit vectors.
+struct BlendArc {
+  Vec centre, u, w;
+  Vec start;  // p(0)
+  double radius = 0, sweep = 0;
+
+  // rt-safe
+  Vec point(double s) const;
+  Vec tangent(double s) const;
+  Vec curvature(double s) const;
+};
+
+// Builds the arc tangent to unit direction t1 at `p1`, turning by `sweep` (radians) towards unit
+// direction t2, with radius r. t1 and t2 must not be (anti)parallel.
+BlendArc make_blend_arc(const Vec& p1, const Vec& t1, const Vec& t2, double r, double sweep);
+
+struct Block {
+  Segment seg;            // the geometry when !is_blend (line or arc/helix)
+  BlendArc blend;         // the geometry when is_blend
+  bool is_blend = false;
+  bool rapid = false;
+  std::uint32_t tag = 0;  // instruction index carried to the setpoints
+
+  double length = 0;          // mm
+  double a_mm_s2 = 0;         // path acceleration every axis allows along the whole block
+  double v_cap_mm_s = 0;      // path speed every axis allows (hard: never exceeded, whatever the override)
+  double feed_mm_s = 0;       // programmed feed (infinite for rapids): the override scales it
+  double v2_junction = 0;     // (mm/s)²: entry speed the junction with the previous block allows
+  double v2_entry_max = 0;    // (mm/s)²: backward pass — entry speed from which every later limit,
+                              // and the stop at the end of what is planned, can still be met
+
+  // rt-safe geometry at arc length s ∈ [0, length].
+  Vec start() const { return is_blend ? blend.point(0) : seg.start; }
+  Vec end() const { return is_blend ? blend.point(length) : seg.end; }
+  Vec point(double s) const { return is_blend ? blend.point(s) : seg.point(s); }
+  Vec tangent(double s) const { return is_blend ? blend.tangent(s) : seg.tangent(s); }
+  Vec curvature(double s) const { return is_blend ? blend.curvature(s) : seg.curvature(s); }
+};
+
+}  // namespace softmc::motion

@@ -1,0 +1,66 @@
+// The look-ahead window between planner and interpolator: committed blocks plus one pending block.
+//
+//   push ─► [ pending ] ─commit─► ring: [ front (executing) | 1 | 2 | ... | back ] ─► interpolator
+//             (its end may still be cut by the next corner's blend)      (its exit = 0: always stoppable)
+//
+// Committed blocks never change geometry again; the planner only raises their v2_entry_max, so an
+// exit speed the interpolator has committed to stays feasible. rt-safe throughout.
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+
+#include "core/ring.hpp"
+#include "motion/planner/block.hpp"
+
+namespace softmc::motion {
+
+class PlanQueue {
+ public:
+  // One slot more than asked: the pending block always has a place to be flushed into.
+  explicit PlanQueue(std::size_t capacity) : ring_(capacity + 1) {}
+
+  // A push may commit up to two blocks (the shortened previous one and a blend) and leaves a new
+  // pending block that a flush will commit: three free slots.
+  bool full() const { return ring_.capacity() - ring_.size() < 3; }
+  bool empty() const { return ring_.empty() && !has_pending_; }
+  std::size_t size() const { return ring_.size() + (has_pending_ ? 1 : 0); }
+  std::size_t capacity() const { return ring_.capacity() - 1; }
+  // Drops everything planned, pending included (a fault, or the end of a stop).
+  void clear() {
+    ring_.clear();
+    has_pending_ = false;
+    unsettled_ = 0;
+  }
+
+  // rt-safe. The backward pass (entry limits from the tail, exit 0, backwards), run once for all the
+  // blocks committed since the last call — once per cycle, not once per push. It stops at the first
+  // older block whose limit does not change: limits only rise as blocks are appended.
+  void settle() {
+    if (unsettled_ == 0) return;
+    double exit2 = 0;
+    const std::size_t n = ring_.size();
+    for (std::size_t k = n; k-- > 0;) {
+      Block& b = ring_.at(k);
+      const double e2 = std::min(b.v2_junction, exit2 + 2 * b.a_mm_s2 * b.length);
+      if (k + unsettled_ < n && e2 == b.v2_entry_max) break;
+      b.v2_entry_max = e2;
+      exit2 = e2;
+    }
+    unsettled_ = 0;
+  }
+
+  core::Ring<Block>& ring() { return ring_; }
+  const core::Ring<Block>& ring() const { return ring_; }
+  bool has_pending() const { return has_pending_; }
+
+ private:
+  friend class Planner;
+  core::Ring<Block> ring_;
+  Block pending_;
+  double pending_full_length_ = 0;  // its length before the blend at its start shortened it
+  bool has_pending_ = false;
+  std::size_t unsettled_ = 0;  // blocks committed since the last settle()
+};
+
+}  // namespace softmc::motion

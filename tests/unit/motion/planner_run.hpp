@@ -1,0 +1,91 @@
+// Test rig: streams path requests through Planner and Interpolator like the Channel does, cycle by
+// cycle, and feeds every setpoint to the trace checker.
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include "motion/interp/interpolator.hpp"
+#include "motion/planner/planner.hpp"
+#include "trace_checker.hpp"
+
+namespace softmc::motion::testing {
+
+struct RunResult {
+  TraceFigures fig;
+  core::Vec end;
+  std::uint64_t cycles = 0;  // cycles until idle
+  double max_path_v = 0;
+  bool finished = false;
+  PlanResult error = PlanResult::Ok;
+};
+
+// Called before every cycle with the cycle number; may act on the interpolator (override, hold...).
+using CycleHook = std::function<void(std::uint64_t, Interpolator&)>;
+
+inline RunResult run_path(const MachineLimits& lim, const std::vector<PathRequest>& reqs, std::size_t capacity,
+                          const PlannerConfig& pc = {}, const CycleHook& hook = {},
+                          std::uint64_t max_cycles = 20'000'000) {
+  std::vector<Segment> path;
+  for (const auto& r : reqs) path.push_back(r.geom);
+  Planner planner(lim, capacity, pc);
+  Interpolator in(planner.queue(), reqs.empty() ? core::Vec{} : reqs.front().geom.start);
+  TraceChecker chk(lim, lim.period_s, path);
+  RunResult res;
+  chk.add(in.setpoint().pos, 0);
+  std::size_t next = 0;
+  bool flushed = false;
+  for (res.cycles = 0; res.cycles < max_cycles; ++res.cycles) {
+    while (next < reqs.size() && !planner.queue().full()) {
+      const auto r = planner.push(reqs[next]);
+      if (r != PlanResult::Ok) {
+        res.error = r;
+        return res;
+      }
+      ++next;
+    }
+    if (next == reqs.size() && !flushed) {
+      planner.flush();
+      flushed = true;
+    }
+    if (flushed && in.idle()) break;
+    if (hook) hook(res.cycles, in);
+    const auto& sp = in.step(lim.period_s);
+    res.max_path_v = std::max(res.max_path_v, sp.path_v);
+    chk.add(sp.pos, sp.tag);
+  }
+  // Two more samples at rest: the checker sees the stop at the end.
+  chk.add(in.step(lim.period_s).pos, in.setpoint().tag);
+  chk.add(in.step(lim.period_s).pos, in.setpoint().tag);
+  res.fig = chk.figures();
+  res.end = in.setpoint().pos;
+  res.finished = in.idle();
+  return res;
+}
+
+inline MachineLimits xyz_limits(double v = 100, double a = 1000) {
+  MachineLimits m;
+  for (int i = 0; i < 3; ++i) m.axis[i] = {v, a, 0, -1000, 1000};
+  m.period_s = 0.001;
+  return m;
+}
+
+inline core::Vec xyz(double x, double y, double z = 0) {
+  core::Vec v;
+  v[0] = x;
+  v[1] = y;
+  v[2] = z;
+  return v;
+}
+
+inline PathRequest line_req(const core::Vec& a, const core::Vec& b, double feed, std::uint32_t tag,
+                            double tol = -1) {
+  PathRequest r;
+  r.geom = make_line(a, b);
+  r.feed_mm_s = feed;
+  r.tag = tag;
+  r.tolerance_mm = tol;
+  return r;
+}
+
+}  // namespace softmc::motion::testing
