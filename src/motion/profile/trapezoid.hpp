@@ -9,13 +9,9 @@
 
 #include <optional>
 
-namespace softmc::motion {
+#include "motion/profile/profile_state.hpp"
 
-struct ProfileState {
-  double s = 0;  // mm
-  double v = 0;  // mm/s
-  double a = 0;  // mm/s²
-};
+namespace softmc::motion {
 
 struct Trapezoid {
   double length = 0;
