@@ -5,12 +5,16 @@
 #include <cstdio>
 #include <filesystem>
 #include <fmt/format.h>
+#include <fstream>
 #include <iostream>
+#include <sstream>
 
 #include "machine/config.hpp"
 #include "program/iso/parser.hpp"
+#include "program/spc/store.hpp"
 #include "report/plot.hpp"
 #include "report/summary.hpp"
+#include "moves.hpp"
 #include "simulation.hpp"
 
 namespace {
@@ -90,12 +94,51 @@ int cmd_run(const std::string& path, const MachineArgs& margs, const std::string
   return res.ok ? 0 : 2;
 }
 
+// SPC (spc200.md): a P<n>.spc file, or a folder = a program store (every P<n>.spc, calls checked across).
+bool is_spc(const std::string& path) {
+  namespace fs = std::filesystem;
+  return fs::is_directory(path) || fs::path(path).extension() == ".spc" || fs::path(path).extension() == ".SPC";
+}
+bool check_spc(const std::string& path) {
+  namespace fs = std::filesystem;
+  core::Diagnostics d;
+  if (fs::is_directory(path)) {
+    program::spc::ProgramStore store;
+    d = store.load_folder(path);
+  } else {
+    std::ifstream in(path);
+    std::stringstream text;
+    text << in.rdbuf();
+    if (!in) d.push_back({path, 0, 0, core::Severity::Error, "cannot read the file"});
+    else {
+      const int n = program::spc::program_number_from_file_name(fs::path(path).filename().string());
+      d = program::spc::parse(text.str(), path, {false, n}).diagnostics;
+    }
+  }
+  for (const auto& x : d) std::cerr << x.format() << '\n';
+  return !core::has_errors(d);
+}
+
 int cmd_check(const std::vector<std::string>& paths, const MachineArgs& margs) {
   const auto cfg = margs.load();
   int rc = 0;
-  for (const auto& p : paths)
+  for (const auto& p : paths) {
+    if (is_spc(p)) {
+      if (!check_spc(p)) rc = 1;
+      continue;
+    }
     if (!load_program(p, cfg)) rc = 1;
+  }
   return rc;
+}
+
+// `softmc moves`: the interpreter's canonical output, one JSON object per line (docs/moves.md).
+int cmd_moves(const std::string& path, const MachineArgs& margs) {
+  const auto cfg = margs.load();
+  const auto prog = load_program(path, cfg);
+  if (!prog) return 1;
+  app::write_moves(stdout, *prog, cfg.axis_mask());
+  return std::fflush(stdout) == 0 ? 0 : 1;
 }
 
 }  // namespace
@@ -120,6 +163,12 @@ int main(int argc, char** argv) {
   check->add_option("programs", check_progs, "part programs")->required();
   check_m.add_to(check);
 
+  MachineArgs moves_m;
+  std::string moves_prog;
+  auto* moves = app.add_subcommand("moves", "print the interpreter's canonical moves and events as JSON Lines");
+  moves->add_option("program", moves_prog, "part program (.ngc)")->required();
+  moves_m.add_to(moves);
+
   auto* config = app.add_subcommand("config", "print the effective machine configuration as TOML");
   config_m.add_to(config);
 
@@ -132,6 +181,7 @@ int main(int argc, char** argv) {
   try {
     if (*run) return cmd_run(run_prog, run_m, plot, trace_csv, json);
     if (*check) return cmd_check(check_progs, check_m);
+    if (*moves) return cmd_moves(moves_prog, moves_m);
     if (*config) {
       std::cout << machine::to_toml(config_m.load());
       return 0;

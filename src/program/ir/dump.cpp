@@ -28,6 +28,7 @@ AxisMask used_axes(const Program& p) {
     if (auto* r = std::get_if<Rapid>(&ins.op)) note(r->end);
     if (auto* l = std::get_if<Linear>(&ins.op)) note(l->end);
     if (auto* a = std::get_if<Arc>(&ins.op)) note(a->end);
+    if (auto* b = std::get_if<Bezier>(&ins.op)) note(b->end);
   }
   return m;
 }
@@ -58,6 +59,10 @@ std::string dump(const Program& p) {
             out += fmt::format("m {}", op.number);
           } else if constexpr (std::is_same_v<T, ProgramEnd>) {
             out += op.rewind ? "end rewind" : "end";
+          } else if constexpr (requires { iso_text(op); }) {  // ISO payloads (program/iso/dump_ops.cpp)
+            out += iso_text(op);
+          } else if constexpr (requires { spc_text(op); }) {  // SPC payloads (program/spc/dump_ops.cpp)
+            out += spc_text(op);
           }
         },
         ins.op);

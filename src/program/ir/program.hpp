@@ -14,6 +14,8 @@
 
 #include "core/axes.hpp"
 #include "core/diagnostic.hpp"
+#include "program/ir/iso_ops.hpp"
+#include "program/ir/spc_ops.hpp"
 
 namespace softmc::program {
 
@@ -57,6 +59,7 @@ struct ToolSwitch {
 // Any M function, recorded for the PLC interface (groups and change bits, plc_interface.md P-10).
 struct MFunction {
   int number = 0;
+  std::uint8_t group = 14;  // P-10 group 1..14 (14 = none of the others)
 };
 
 // Program end (M2/M30). `rewind` is true for M30.
@@ -64,7 +67,11 @@ struct ProgramEnd {
   bool rewind = false;
 };
 
-using Op = std::variant<Rapid, Linear, Arc, Dwell, ToolSwitch, MFunction, ProgramEnd>;
+using Op = std::variant<Rapid, Linear, Arc, Dwell, ToolSwitch, MFunction, ProgramEnd,
+                        SpcMove, SpcAxisSetting, SpcDwell, SpcJump, SpcCall, SpcReturn, SpcEnd, SpcSync,
+                        SpcPosReg, SpcIntReg, SpcBitTest, SpcBitWrite,
+                        Bezier, Nurbs, PathMode, SpindleSpeed, ToolSelect, ToolChange, Pause, OffsetsChanged,
+                        DigitalOutput, WaitInput, Message>;
 
 struct Instruction {
   SourceLoc loc;

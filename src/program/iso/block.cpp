@@ -12,8 +12,8 @@ namespace {
 // RS274 modal groups, named as in the "two ... codes in one block" messages. At most one code of
 // each group may appear in a block (LinuxCNC's rule; group 0 holds the non-modal codes).
 enum class Group : std::uint8_t {
-  NonModal, Motion, Plane, Distance, ArcDistance, FeedMode, Units, CutterComp, ToolLength, CoordSystem,
-  Stop, Spindle, Count
+  NonModal, Motion, Plane, Distance, ArcDistance, FeedMode, Units, CutterComp, ToolLength, Retract, CoordSystem,
+  PathControl, SpindleMode, Count
 };
 
 const char* group_name(Group g) {
@@ -27,22 +27,51 @@ const char* group_name(Group g) {
     case Group::Units: return "units";
     case Group::CutterComp: return "cutter compensation";
     case Group::ToolLength: return "tool length offset";
+    case Group::Retract: return "canned cycle return";
     case Group::CoordSystem: return "coordinate system";
-    case Group::Stop: return "program stop";
-    case Group::Spindle: return "spindle";
+    case Group::PathControl: return "path control";
+    case Group::SpindleMode: return "spindle speed mode";
     case Group::Count: break;
   }
   return "?";
 }
 
-// The code already seen in each group of this block, by name, for the conflict message.
-using GroupSeen = std::array<std::optional<std::string>, static_cast<std::size_t>(Group::Count)>;
+// The code already seen in each group of this block (ten times its number), for the message.
+using GroupSeen = std::array<long long, static_cast<std::size_t>(Group::Count)>;
 
-std::optional<LineError> claim(GroupSeen& seen, Group g, std::string name, std::uint32_t col) {
+std::optional<LineError> claim(GroupSeen& seen, Group g, long long code10, std::uint32_t col) {
   auto& slot = seen[static_cast<std::size_t>(g)];
-  if (slot) return LineError{col, fmt::format("two {} codes in one block: {} and {}", group_name(g), *slot, name)};
-  slot = std::move(name);
+  if (slot >= 0)
+    return LineError{col, fmt::format("two {} codes in one block: {} and {}", group_name(g), g_code_name(slot),
+                                      g_code_name(code10))};
+  slot = code10;
   return std::nullopt;
+}
+
+std::optional<LineError> refuse_g(long long code10, std::uint32_t col) {
+  switch (code10) {
+    case 330:
+    case 331:
+    case 760:
+      return LineError{col, fmt::format("{} (spindle-synchronised motion) is not supported: the machine has no spindle "
+                                        "feedback", g_code_name(code10))};
+    case 840:
+      return LineError{col, "G84 (tapping) is not supported: it needs spindle-synchronised motion"};
+    case 870: return LineError{col, "G87 (back boring) is not supported: it needs an oriented spindle stop"};
+    case 880: return LineError{col, "G88 (boring, manual retract) is not supported: it needs a manual retract"};
+    case 950:
+      return LineError{col, "G95 (feed per revolution) is not supported: the machine has no spindle feedback"};
+    case 382: case 383: case 384: case 385:
+      return LineError{col, fmt::format("{} (probing) is not supported: the machine has no probe input", g_code_name(code10))};
+    case 70:
+    case 80: return LineError{col, fmt::format("{} (lathe diameter/radius mode) is not supported", g_code_name(code10))};
+    case 171: case 181: case 191:
+      return LineError{col, fmt::format("{} (UVW planes) is not supported: use G17, G18 or G19", g_code_name(code10))};
+    case 432: return LineError{col, "G43.2 (additional tool offset) is not supported"};
+    case 520: return LineError{col, "G52 (local offset) is not supported: use G92"};
+    default: break;
+  }
+  return LineError{col, fmt::format("unsupported G code {}", g_code_name(code10))};
 }
 
 std::optional<LineError> apply_g(const Word& w, Block& b, GroupSeen& seen) {
@@ -50,88 +79,122 @@ std::optional<LineError> apply_g(const Word& w, Block& b, GroupSeen& seen) {
   const long long code10 = std::llround(tenths);
   if (std::fabs(tenths - static_cast<double>(code10)) > 1e-6)
     return LineError{w.col, fmt::format("malformed G code G{}: at most one decimal place", w.value)};
-  const std::string name = g_code_name(code10);
   Group group = Group::NonModal;
+  auto motion = [&](Motion m) {
+    group = Group::Motion;
+    b.motion = At<Motion>{m, w.col};
+  };
   switch (code10) {
-    case 0: group = Group::Motion; b.motion = At<Motion>{Motion::Rapid, w.col}; break;
-    case 10: group = Group::Motion; b.motion = At<Motion>{Motion::Linear, w.col}; break;
-    case 20: group = Group::Motion; b.motion = At<Motion>{Motion::ArcCw, w.col}; break;
-    case 30: group = Group::Motion; b.motion = At<Motion>{Motion::ArcCcw, w.col}; break;
-    case 800: group = Group::Motion; b.motion = At<Motion>{Motion::None, w.col}; break;
-    case 40: group = Group::NonModal; b.dwell_col = w.col; break;
+    case 0: motion(Motion::Rapid); break;
+    case 10: motion(Motion::Linear); break;
+    case 20: motion(Motion::ArcCw); break;
+    case 30: motion(Motion::ArcCcw); break;
+    case 50: motion(Motion::CubicSpline); break;
+    case 51: motion(Motion::QuadSpline); break;
+    case 52: motion(Motion::Nurbs); break;
+    case 53: group = Group::Motion; b.nurbs_end = w.col; break;
+    case 730: motion(Motion::Drill73); break;
+    case 800: motion(Motion::None); break;
+    case 810: motion(Motion::Drill81); break;
+    case 820: motion(Motion::Drill82); break;
+    case 830: motion(Motion::Drill83); break;
+    case 850: motion(Motion::Bore85); break;
+    case 860: motion(Motion::Bore86); break;
+    case 890: motion(Motion::Bore89); break;
+    case 40: case 100: case 280: case 281: case 300: case 301: case 920: case 921: case 922: case 923:
+      b.non_modal = At<int>{static_cast<int>(code10), w.col};
+      break;
+    case 530: b.g53_col = w.col; break;
     case 170: group = Group::Plane; b.plane = At<Plane>{Plane::XY, w.col}; break;
-    case 180: return LineError{w.col, "G18 (XZ plane) is not supported yet: only G17 (XY plane)"};
-    case 190: return LineError{w.col, "G19 (YZ plane) is not supported yet: only G17 (XY plane)"};
+    case 180: group = Group::Plane; b.plane = At<Plane>{Plane::XZ, w.col}; break;
+    case 190: group = Group::Plane; b.plane = At<Plane>{Plane::YZ, w.col}; break;
     case 200: group = Group::Units; b.units = At<Units>{Units::Inch, w.col}; break;
     case 210: group = Group::Units; b.units = At<Units>{Units::Mm, w.col}; break;
     case 900: group = Group::Distance; b.distance = At<Distance>{Distance::Absolute, w.col}; break;
     case 910: group = Group::Distance; b.distance = At<Distance>{Distance::Incremental, w.col}; break;
     case 901: group = Group::ArcDistance; b.arc_distance = At<Distance>{Distance::Absolute, w.col}; break;
     case 911: group = Group::ArcDistance; b.arc_distance = At<Distance>{Distance::Incremental, w.col}; break;
-    case 930: return LineError{w.col, "G93 (inverse time feed) is not supported yet: only G94 (units per minute)"};
-    // The codes below select the only state this interpreter has; CAM preambles program them, so
-    // they are accepted (and still take their group's place in the block).
-    case 940: group = Group::FeedMode; break;      // feed in units per minute
-    case 400: group = Group::CutterComp; break;    // cutter compensation off
-    case 490: group = Group::ToolLength; break;    // tool length offset off
-    case 540: group = Group::CoordSystem; break;   // coordinate system 1, whose offsets are zero
-    default: return LineError{w.col, fmt::format("unsupported G code {}", name)};
+    case 930: group = Group::FeedMode; b.feed_mode = At<FeedMode>{FeedMode::InverseTime, w.col}; break;
+    case 940: group = Group::FeedMode; b.feed_mode = At<FeedMode>{FeedMode::PerMinute, w.col}; break;
+    case 400: case 410: case 411: case 420: case 421:
+      group = Group::CutterComp;
+      b.comp = At<int>{static_cast<int>(code10), w.col};
+      break;
+    case 430: case 431: case 490:
+      group = Group::ToolLength;
+      b.tool_length = At<int>{static_cast<int>(code10), w.col};
+      break;
+    case 980: group = Group::Retract; b.retract = At<Retract>{Retract::OldZ, w.col}; break;
+    case 990: group = Group::Retract; b.retract = At<Retract>{Retract::RPlane, w.col}; break;
+    case 540: case 550: case 560: case 570: case 580: case 590: case 591: case 592: case 593: {
+      group = Group::CoordSystem;
+      const int n = code10 <= 590 ? static_cast<int>((code10 - 540) / 10 + 1) : static_cast<int>(code10 - 591 + 7);
+      b.coord_system = At<int>{n, w.col};
+      break;
+    }
+    case 610: case 611: case 640: case 230:
+      group = Group::PathControl;
+      b.path = At<int>{static_cast<int>(code10), w.col};
+      break;
+    case 960: case 970:
+      group = Group::SpindleMode;
+      b.spindle_mode = At<int>{static_cast<int>(code10), w.col};
+      break;
+    default: return refuse_g(code10, w.col);
   }
-  return claim(seen, group, name, w.col);
+  return claim(seen, group, code10, w.col);
 }
 
-std::optional<LineError> apply_m(const Word& w, Block& b, GroupSeen& seen) {
+// M codes: the P-10 groups decide conflicts; group 14 ("everything else") does not conflict,
+// except M62…M66 among themselves (one I/O operation per block, as LinuxCNC). M7 with M8 is
+// allowed (both coolants, LinuxCNC), as the P-10 value M17 says.
+std::optional<LineError> apply_m(const Word& w, const MTable& mt, Block& b) {
   const long long n = std::llround(w.value);
   if (std::fabs(w.value - static_cast<double>(n)) > 1e-9 || n < 0)
     return LineError{w.col, fmt::format("malformed M code M{}: M codes are whole numbers", w.value)};
-  const std::string name = fmt::format("M{}", n);
+  if (n > kMaxMNumber) return LineError{w.col, fmt::format("unknown M code M{} (M0 … M{})", n, kMaxMNumber)};
   switch (n) {
-    case 2:
-    case 30:
-      b.m_stop = At<int>{static_cast<int>(n), w.col};
-      return claim(seen, Group::Stop, name, w.col);
-    case 3:
-    case 4:
-    case 5:
-      b.m_spindle = At<int>{static_cast<int>(n), w.col};
-      return claim(seen, Group::Spindle, name, w.col);
-    default:
-      return LineError{w.col, fmt::format("unsupported M code {}", name)};
+    case 67: case 68: return LineError{w.col, fmt::format("M{} (analog output) is not supported", n)};
+    case 70: case 71: case 72: case 73:
+      return LineError{w.col, fmt::format("M{} (save/restore modal state) is not supported", n)};
+    default: break;
   }
-}
-
-// Letters that RS274 (LinuxCNC dialect) knows but this interpreter does not use yet.
-std::optional<LineError> refuse_letter(const Word& w) {
-  switch (w.letter) {
-    case 'A':
-    case 'B':
-    case 'C': return LineError{w.col, fmt::format("rotary axis words ({}) are not supported yet", w.letter)};
-    case 'K': return LineError{w.col, "K words are not supported: arcs lie in the XY plane (G17), whose centre is given by I and J"};
-    case 'R': return LineError{w.col, "R-format arcs are not supported yet: give the arc centre with I and J"};
-    case 'D':
-    case 'H':
-    case 'L':
-    case 'O':
-    case 'Q':
-    case 'S':
-    case 'T': return LineError{w.col, fmt::format("{} words are not supported yet", w.letter)};
-    default: return LineError{w.col, fmt::format("unknown word letter {}", w.letter)};
+  const int num = static_cast<int>(n);
+  const int group = mt.get(num).group;
+  const bool io = num >= 62 && num <= 66;
+  for (std::size_t k = 0; k < b.m_count; ++k) {
+    const auto& o = b.m[k];
+    const bool o_io = o.number >= 62 && o.number <= 66;
+    const bool coolant_pair = (o.number == 7 && num == 8) || (o.number == 8 && num == 7);
+    if (((group == o.group && group != kMOtherGroup) || (io && o_io)) && !coolant_pair)
+      return LineError{w.col, fmt::format("two M codes of group {} in one block: M{} and M{}", io ? 14 : group, o.number, num)};
   }
+  if (b.m_count == Block::kMaxM) return LineError{w.col, "too many M codes in one block"};
+  b.m[b.m_count++] = Block::MCode{num, group, w.col};
+  return std::nullopt;
 }
 
 }  // namespace
 
 bool Block::has_axes() const {
-  for (const auto& a : axes)
-    if (a) return true;
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i)
+    if (has(core::letter(i))) return true;
   return false;
 }
 
 std::uint32_t Block::first_axis_col() const {
   std::uint32_t col = 0;
-  for (const auto& a : axes)
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
+    const auto& a = word(core::letter(i));
     if (a && (col == 0 || a->col < col)) col = a->col;
+  }
   return col;
+}
+
+const Block::MCode* Block::m_code(int number) const {
+  for (std::size_t k = 0; k < m_count; ++k)
+    if (m[k].number == number) return &m[k];
+  return nullptr;
 }
 
 std::string g_code_name(long long code10) {
@@ -141,26 +204,37 @@ std::string g_code_name(long long code10) {
   return fmt::format("G{}{}.{}", sign, m / 10, m % 10);
 }
 
-std::optional<LineError> check_block(const std::vector<Word>& words, Block& out) {
+std::optional<LineError> check_block(const std::vector<Word>& words, const MTable& mtable, Block& out) {
   out = Block{};
   if (words.empty()) return std::nullopt;
   out.col = words.front().col;
   GroupSeen seen;
-  std::array<bool, 26> letter_seen{};
+  seen.fill(-1);
+  std::uint32_t g53_or_nonmodal = 0;
   for (std::size_t k = 0; k < words.size(); ++k) {
     const Word& w = words[k];
     if (w.letter == 'G') {
+      const auto before = out.non_modal;
+      const bool had53 = out.g53_col.has_value();
       if (auto e = apply_g(w, out, seen)) return e;
+      // G53 and the other group-0 codes share group 0.
+      const bool now_nm = (out.non_modal && !before) || (out.g53_col && !had53);
+      if (now_nm) {
+        if (g53_or_nonmodal)
+          return LineError{w.col, fmt::format("two non-modal codes in one block: {} and {}", g_code_name(g53_or_nonmodal),
+                                              g_code_name(std::llround(w.value * 10)))};
+        g53_or_nonmodal = static_cast<std::uint32_t>(std::llround(w.value * 10));
+        if (g53_or_nonmodal == 0) g53_or_nonmodal = 1;  // never happens (G0 is group 1); keeps 0 = none
+      }
       continue;
     }
     if (w.letter == 'M') {
-      if (auto e = apply_m(w, out, seen)) return e;
+      if (auto e = apply_m(w, mtable, out)) return e;
       continue;
     }
     if (w.letter < 'A' || w.letter > 'Z') return LineError{w.col, "unknown word"};  // the lexer never makes one
-    bool& seen_before = letter_seen[static_cast<std::size_t>(w.letter - 'A')];
-    if (seen_before) return LineError{w.col, fmt::format("two {} words in one block", w.letter)};
-    seen_before = true;
+    auto& slot = out.words[static_cast<std::size_t>(w.letter - 'A')];
+    if (slot) return LineError{w.col, fmt::format("two {} words in one block", w.letter)};
     switch (w.letter) {
       case 'N':
         // RS274: the line number comes first; its value is a label only.
@@ -170,19 +244,19 @@ std::optional<LineError> check_block(const std::vector<Word>& words, Block& out)
         break;
       case 'F':
         if (!(w.value > 0)) return LineError{w.col, "feed rate must be greater than zero"};
-        out.f = At<double>{w.value, w.col};
         break;
-      case 'P': out.p = At<double>{w.value, w.col}; break;
-      case 'I': out.i = At<double>{w.value, w.col}; break;
-      case 'J': out.j = At<double>{w.value, w.col}; break;
-      case 'X':
-      case 'Y':
-      case 'Z':
-      case 'U':
-      case 'V':
-      case 'W': out.axes[*core::axis_from_letter(w.letter)] = At<double>{w.value, w.col}; break;
-      default: return refuse_letter(w);
+      case 'S':
+        if (w.value < 0) return LineError{w.col, "spindle speed (S) must be 0 or more"};
+        break;
+      case 'T':
+        if (w.value < 0 || w.value != std::floor(w.value)) return LineError{w.col, "tool number (T) must be a whole number, 0 or more"};
+        break;
+      case 'D': case 'E': case 'H': case 'I': case 'J': case 'K': case 'L': case 'P': case 'Q': case 'R':
+      case 'X': case 'Y': case 'Z': case 'A': case 'B': case 'C': case 'U': case 'V': case 'W':
+        break;
+      default: return LineError{w.col, fmt::format("unknown word letter {}", w.letter)};
     }
+    slot = At<double>{w.value, w.col};
   }
   return std::nullopt;
 }

@@ -1,25 +1,18 @@
-// Lexer: one line of RS274 text into letter/number words, each with the column of its letter.
+// Lexer: one line of RS274/NGC text into words (values evaluated), parameter assignments, an O-word
+// and operator messages, each with the column it came from.
 #include "program/iso/lexer.hpp"
 
-#include <charconv>
-#include <cmath>
-#include <limits>
-#include <string>
-
 #include <fmt/format.h>
+
+#include "program/iso/expression.hpp"
 
 namespace softmc::program::iso {
 namespace {
 
-bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
 bool is_digit(char c) { return c >= '0' && c <= '9'; }
 bool is_letter(char c) { return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z'); }
 char to_upper(char c) { return (c >= 'a' && c <= 'z') ? static_cast<char>(c - 'a' + 'A') : c; }
-
-std::uint32_t col_of(std::size_t i) {
-  constexpr std::size_t kMax = std::numeric_limits<std::uint32_t>::max();
-  return i >= kMax ? static_cast<std::uint32_t>(kMax) : static_cast<std::uint32_t>(i + 1);
-}
+char to_lower(char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; }
 
 void skip_spaces(std::string_view s, std::size_t& i) {
   while (i < s.size() && is_space(s[i])) ++i;
@@ -29,11 +22,12 @@ void skip_spaces(std::string_view s, std::size_t& i) {
 std::string unexpected(char c) {
   if (is_digit(c) || c == '.' || c == '+' || c == '-') return "number without a word letter in front of it";
   switch (c) {
-    case '#': return "parameters (#) are not supported yet";
-    case '[': return "expressions ([...]) are not supported yet";
+    case ']': return "']' without an opening '['";
+    case '[': return "expression without a word letter in front of it";
     case ')': return "')' without an opening '('";
     case '%': return "'%' must be alone on its line";
     case '/': return "'/' (block delete) must be the first character of the line";
+    case '=': return "'=' without a parameter in front of it";
     default: break;
   }
   const auto u = static_cast<unsigned char>(c);
@@ -41,89 +35,163 @@ std::string unexpected(char c) {
   return fmt::format("unexpected byte 0x{:02X}", u);
 }
 
-// Converts the collected characters; from_chars is locale-independent and exact.
-std::optional<std::string> convert(const std::string& text, double& out) {
-  double v = 0;
-  const auto* first = text.data();
-  const auto* last = text.data() + text.size();
-  const auto [ptr, ec] = std::from_chars(first, last, v, std::chars_format::general);
-  if (ec == std::errc::result_out_of_range) return "number out of range";
-  if (ec != std::errc() || ptr != last || !std::isfinite(v)) return "malformed number";
-  if (std::fabs(v) > kMaxNumberMagnitude) return fmt::format("number out of range (magnitude above {:g})", kMaxNumberMagnitude);
-  out = v;
+// A word's value: a literal number (errors at the letter, as the foundation reported them) or a
+// parameter, expression or function (errors where they arise).
+std::optional<LineError> word_value(std::string_view s, std::size_t& i, char letter, std::uint32_t col,
+                                    const Parameters& params, double& out) {
+  std::size_t j = i;
+  skip_spaces(s, j);
+  bool computed = j < s.size() && (s[j] == '[' || s[j] == '#');
+  if (j < s.size() && (s[j] == '+' || s[j] == '-')) {
+    std::size_t k = j + 1;
+    skip_spaces(s, k);
+    computed = k < s.size() && (s[k] == '[' || s[k] == '#' || is_letter(s[k]));
+  }
+  if (j < s.size() && is_letter(s[j])) {  // a function only when its '[' follows: "X Y2" is a missing number
+    std::size_t k = j;
+    while (k < s.size() && is_letter(s[k])) ++k;
+    skip_spaces(s, k);
+    computed = k < s.size() && s[k] == '[';
+  }
+  if (computed) {
+    ValueReader r(s, params);
+    return r.value(i, out);
+  }
+  if (auto err = read_number(s, i, letter, out)) return LineError{col, std::move(*err)};
   return std::nullopt;
 }
 
-// Reads the number after a word letter from s[i]. RS274 numbers are an optional sign, then digits
-// with at most one decimal point; white space inside is ignored, as RS274 ignores it everywhere
-// outside comments (so "X 1 0.5" is X10.5). RS274 has no exponent form: "1e3" is refused, and
-// reported as out of range when its value would be.
-std::optional<std::string> read_number(std::string_view s, std::size_t& i, char letter, double& out) {
-  std::string text;  // digits and point, spaces removed: what from_chars reads (it takes no '+')
-  bool negative = false, sign = false, point = false;
-  std::size_t digits = 0;
-  std::size_t after_number = i;  // just past the last digit or point, where an exponent would start
+OKeyword keyword_of(std::string_view w, bool& ok) {
+  ok = true;
+  static constexpr std::pair<std::string_view, OKeyword> kWords[] = {
+      {"sub", OKeyword::Sub},       {"endsub", OKeyword::EndSub},     {"call", OKeyword::Call},
+      {"return", OKeyword::Return}, {"if", OKeyword::If},             {"elseif", OKeyword::ElseIf},
+      {"else", OKeyword::Else},     {"endif", OKeyword::EndIf},       {"while", OKeyword::While},
+      {"endwhile", OKeyword::EndWhile}, {"do", OKeyword::Do},         {"repeat", OKeyword::Repeat},
+      {"endrepeat", OKeyword::EndRepeat}, {"break", OKeyword::Break}, {"continue", OKeyword::Continue}};
+  for (const auto& [name, k] : kWords)
+    if (name == w) return k;
+  ok = false;
+  return OKeyword::Sub;
+}
+
+// O-word header at s[i] (the 'O'): name and keyword. Leaves i after the keyword.
+std::optional<LineError> o_header(std::string_view s, std::size_t& i, OWord& o) {
+  o.col = col_of(i);
+  o.name.clear();
+  o.args.clear();
+  ++i;
   skip_spaces(s, i);
-  if (i < s.size() && (s[i] == '+' || s[i] == '-')) {
-    sign = true;
-    negative = s[i] == '-';
+  if (i < s.size() && s[i] == '<') {
+    o.name += '<';
+    for (++i; i < s.size() && s[i] != '>'; ++i)
+      if (!is_space(s[i])) o.name += to_lower(s[i]);
+    if (i >= s.size()) return LineError{o.col, "O-word name has no closing '>'"};
     ++i;
-    skip_spaces(s, i);
-  }
-  for (; i < s.size(); ++i) {
-    const char c = s[i];
-    if (is_digit(c)) {
-      text += c;
-      ++digits;
-      after_number = i + 1;
-    } else if (c == '.') {
-      if (point) return std::string("malformed number: two decimal points");
-      point = true;
-      text += c;
-      after_number = i + 1;
-    } else if (!is_space(c)) {
-      break;
+    o.name += '>';
+    if (o.name == "<>") return LineError{o.col, "empty O-word name"};
+  } else {
+    bool any = false;
+    while (i < s.size() && (is_digit(s[i]) || is_space(s[i]))) {
+      if (is_digit(s[i])) {
+        any = true;
+        if (!(o.name.empty() && s[i] == '0')) o.name += s[i];  // O0100 is O100
+      }
+      ++i;
     }
+    if (o.name.empty() && any) o.name.push_back('0');
+    if (o.name.empty()) return LineError{o.col, "O word needs a number or a <name>"};
   }
-  if (digits == 0) {
-    if (!sign && !point && i < s.size() && (s[i] == '#' || s[i] == '[')) return unexpected(s[i]);
-    if (!sign && !point) return fmt::format("{} word has no number", letter);
-    return std::string("malformed number: no digits");
-  }
-  // "1e3" written together is an exponent attempt; "X1 E3" is an X word and an E word.
-  if (after_number < s.size() && (s[after_number] == 'e' || s[after_number] == 'E')) {
-    std::size_t j = after_number + 1;
-    std::string exp = "e";
-    if (j < s.size() && (s[j] == '+' || s[j] == '-')) exp += s[j++];
-    if (j < s.size() && is_digit(s[j])) {
-      while (j < s.size() && is_digit(s[j])) exp += s[j++];
-      i = j;
-      double ignored = 0;
-      if (auto err = convert(text + exp, ignored); err && *err != "malformed number") return err;
-      return std::string("malformed number: RS274 has no exponent notation (write the number out in full)");
-    }
-  }
-  double v = 0;
-  if (auto err = convert(text, v)) return err;
-  out = (negative && v != 0.0) ? -v : v;  // "-0" reads as 0, not as a negative zero in dumps
+  skip_spaces(s, i);
+  std::string kw;
+  while (i < s.size() && is_letter(s[i]) && kw.size() < 12) kw += to_lower(s[i++]);
+  if (kw.empty()) return LineError{o.col, "O word without a keyword (sub, call, if, while, …)"};
+  bool ok = false;
+  o.keyword = keyword_of(kw, ok);
+  if (!ok) return LineError{o.col, fmt::format("unknown O-word keyword '{}'", kw)};
   return std::nullopt;
+}
+
+// Comment text at s[open+1 .. close): an active comment becomes a message.
+void comment(std::string_view body, const Parameters& params, LexedLine& out) {
+  std::size_t i = 0;
+  skip_spaces(body, i);
+  std::string head;
+  std::size_t j = i;
+  while (j < body.size() && is_letter(body[j]) && head.size() < 8) head += to_lower(body[j++]);
+  skip_spaces(body, j);
+  if (j >= body.size() || body[j] != ',') return;
+  MessageKind kind;
+  if (head == "msg") kind = MessageKind::Msg;
+  else if (head == "debug") kind = MessageKind::Debug;
+  else if (head == "print") kind = MessageKind::Print;
+  else return;
+  std::string_view text = body.substr(j + 1);
+  LineMessage m{kind, {}};
+  if (kind == MessageKind::Msg) {
+    m.text = std::string(text);
+  } else {
+    // #n and #<name> print their values, as LinuxCNC's DEBUG and PRINT do (unknown ones as written).
+    for (std::size_t k = 0; k < text.size();) {
+      if (text[k] == '#') {
+        ValueReader r(text, params);
+        std::size_t p = k;
+        ParamRef ref;
+        double v = 0;
+        if (!r.param_ref(p, ref) && !(ref.named ? params.read_named(ref.name, v) : params.read(ref.number, v))) {
+          m.text += fmt::format("{:.6f}", v);
+          k = p;
+          continue;
+        }
+      }
+      m.text += text[k++];
+    }
+  }
+  out.messages.push_back(std::move(m));
 }
 
 }  // namespace
 
-LexedLine lex_line(std::string_view s) {
-  LexedLine out;
+const char* to_string(OKeyword k) {
+  switch (k) {
+    case OKeyword::Sub: return "sub";
+    case OKeyword::EndSub: return "endsub";
+    case OKeyword::Call: return "call";
+    case OKeyword::Return: return "return";
+    case OKeyword::If: return "if";
+    case OKeyword::ElseIf: return "elseif";
+    case OKeyword::Else: return "else";
+    case OKeyword::EndIf: return "endif";
+    case OKeyword::While: return "while";
+    case OKeyword::EndWhile: return "endwhile";
+    case OKeyword::Do: return "do";
+    case OKeyword::Repeat: return "repeat";
+    case OKeyword::EndRepeat: return "endrepeat";
+    case OKeyword::Break: return "break";
+    case OKeyword::Continue: return "continue";
+  }
+  return "?";
+}
+
+void lex_line(std::string_view s, const Parameters& params, LexedLine& out) {
+  out.kind = LineKind::Empty;
+  out.words.clear();
+  out.assignments.clear();
+  out.o.reset();
+  out.messages.clear();
+  out.error.reset();
   std::size_t i = 0;
   skip_spaces(s, i);
   if (i < s.size() && s[i] == '%') {
     out.kind = LineKind::Percent;  // text after a tape delimiter is ignored, as on tape readers
-    return out;
+    return;
   }
   if (i < s.size() && s[i] == '/') {
     out.kind = LineKind::BlockDelete;
-    return out;
+    return;
   }
-  while (true) {
+  auto fail = [&](LineError e) { out.error = std::move(e); };
+  while (!out.error) {
     skip_spaces(s, i);
     if (i >= s.size()) break;
     const char c = s[i];
@@ -132,35 +200,126 @@ LexedLine lex_line(std::string_view s) {
       const std::size_t open = i;
       for (++i; i < s.size() && s[i] != ')'; ++i) {
         if (s[i] == '(') {
-          out.error = LineError{col_of(i), "nested comment: '(' inside a comment"};
+          fail(LineError{col_of(i), "nested comment: '(' inside a comment"});
           break;
         }
       }
       if (out.error) break;
       if (i >= s.size()) {
-        out.error = LineError{col_of(open), "comment has no closing ')'"};
+        fail(LineError{col_of(open), "comment has no closing ')'"});
+        break;
+      }
+      comment(s.substr(open + 1, i - open - 1), params, out);
+      ++i;
+      continue;
+    }
+    if (c == '#') {  // #ref = value
+      const std::size_t at = i;
+      ValueReader r(s, params);
+      Assignment a;
+      ParamRef ref;
+      if (auto e = r.param_ref(i, ref)) {
+        fail(std::move(*e));
+        break;
+      }
+      skip_spaces(s, i);
+      if (i >= s.size() || s[i] != '=') {
+        fail(LineError{col_of(at), "parameter without '=': a parameter is set with #n = value"});
         break;
       }
       ++i;
+      if (auto e = r.value(i, a.value)) {
+        fail(std::move(*e));
+        break;
+      }
+      a.named = ref.named;
+      a.number = ref.number;
+      a.name = std::move(ref.name);
+      a.col = col_of(at);
+      out.assignments.push_back(std::move(a));
       continue;
+    }
+    if (c == 'o' || c == 'O') {
+      const bool only_n = out.words.empty() || (out.words.size() == 1 && out.words[0].letter == 'N');
+      if (!only_n || !out.assignments.empty()) {
+        fail(LineError{col_of(i), "O word must be the first word of its line (after an optional N)"});
+        break;
+      }
+      OWord o;
+      if (auto e = o_header(s, i, o)) {
+        fail(std::move(*e));
+        break;
+      }
+      // Arguments: any number of [expr] for call, at most one value for the others.
+      while (true) {
+        skip_spaces(s, i);
+        if (i >= s.size() || s[i] == ';') break;
+        if (s[i] == '(') {
+          const std::size_t close = s.find(')', i);
+          if (close == std::string_view::npos) {
+            fail(LineError{col_of(i), "comment has no closing ')'"});
+            break;
+          }
+          comment(s.substr(i + 1, close - i - 1), params, out);
+          i = close + 1;
+          continue;
+        }
+        if (s[i] != '[') {
+          fail(LineError{col_of(i), fmt::format("unexpected text after O-word '{}': arguments go in [ ]", to_string(o.keyword))});
+          break;
+        }
+        if (o.args.size() >= kLocalParameters) {
+          fail(LineError{col_of(i), fmt::format("more than {} arguments", kLocalParameters)});
+          break;
+        }
+        ValueReader r(s, params);
+        double v = 0;
+        if (auto e = r.value(i, v)) {
+          fail(std::move(*e));
+          break;
+        }
+        o.args.push_back(v);
+      }
+      if (out.error) break;
+      out.o = std::move(o);
+      break;
     }
     if (is_letter(c)) {
       Word w;
       w.letter = to_upper(c);
       w.col = col_of(i);
       ++i;
-      if (auto err = read_number(s, i, w.letter, w.value)) {
-        out.error = LineError{w.col, std::move(*err)};
+      if (auto e = word_value(s, i, w.letter, w.col, params, w.value)) {
+        fail(std::move(*e));
         break;
       }
       out.words.push_back(w);
       continue;
     }
-    out.error = LineError{col_of(i), unexpected(c)};
-    break;
+    fail(LineError{col_of(i), unexpected(c)});
   }
-  out.kind = (out.words.empty() && !out.error) ? LineKind::Empty : LineKind::Block;
+  const bool has_content = !out.words.empty() || !out.assignments.empty() || out.o || !out.messages.empty();
+  out.kind = (has_content || out.error) ? LineKind::Block : LineKind::Empty;
+}
+
+LexedLine lex_line(std::string_view line) {
+  static const Parameters kZero;
+  LexedLine out;
+  lex_line(line, kZero, out);
   return out;
+}
+
+std::optional<OWord> scan_o_word(std::string_view s) {
+  std::size_t i = 0;
+  skip_spaces(s, i);
+  if (i < s.size() && (s[i] == 'n' || s[i] == 'N')) {
+    ++i;
+    while (i < s.size() && (is_digit(s[i]) || is_space(s[i]) || s[i] == '.')) ++i;
+  }
+  if (i >= s.size() || (s[i] != 'o' && s[i] != 'O')) return std::nullopt;
+  OWord o;
+  if (o_header(s, i, o)) return std::nullopt;  // the error is reported when the line runs
+  return o;
 }
 
 }  // namespace softmc::program::iso

@@ -1,19 +1,23 @@
-// Lexer: one line of RS274 text into letter/number words, each with the column of its letter.
+// Lexer: one line of RS274/NGC text into words (values evaluated), parameter assignments, an O-word
+// and operator messages, each with the column it came from.
 #pragma once
 
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
+#include "program/ir/iso_ops.hpp"
 #include "program/iso/line_error.hpp"
+#include "program/iso/parameters.hpp"
 
 namespace softmc::program::iso {
 
-// A letter and the number after it, exactly as written (program units, no modal meaning yet).
+// A letter and its value (program units, no modal meaning yet).
 struct Word {
   char letter = 0;        // upper case A..Z
-  double value = 0;       // finite, |value| <= kMaxNumberMagnitude
+  double value = 0;       // finite, |value| <= kMaxNumberMagnitude for literal numbers
   std::uint32_t col = 0;  // 1-based column of the letter
 };
 
@@ -21,22 +25,60 @@ struct Word {
 // near it, and the bound keeps every later product and sum finite.
 inline constexpr double kMaxNumberMagnitude = 1e9;
 
+// #n = value / #<name> = value. Values are read before any assignment of the line takes effect
+// (LinuxCNC: "#1=2 #2=#1" sets #2 to the old #1).
+struct Assignment {
+  bool named = false;
+  long long number = 0;
+  std::string name;
+  double value = 0;
+  std::uint32_t col = 0;
+};
+
+enum class OKeyword : std::uint8_t {
+  Sub, EndSub, Call, Return, If, ElseIf, Else, EndIf, While, EndWhile, Do, Repeat, EndRepeat, Break, Continue
+};
+const char* to_string(OKeyword k);
+
+// "O<name> keyword [args]": name lower case ("<name>" or the number as written, e.g. "100").
+struct OWord {
+  std::string name;
+  OKeyword keyword = OKeyword::Sub;
+  std::uint32_t col = 0;          // of the O
+  std::vector<double> args;       // call arguments, or the single value of if/while/repeat/return
+};
+
+// (MSG, …), (DEBUG, …), (PRINT, …): the text after the comma, parameters substituted for DEBUG/PRINT.
+struct LineMessage {
+  MessageKind kind = MessageKind::Msg;
+  std::string text;
+};
+
 // What a line holds once comments and white space are gone.
 enum class LineKind : std::uint8_t {
   Empty,        // blank or comments only
   Percent,      // a '%' tape delimiter line
   BlockDelete,  // starts with '/': skipped (the block delete switch is always on)
-  Block,        // one block of words
+  Block,        // words, assignments, messages or an O-word
 };
 
 struct LexedLine {
   LineKind kind = LineKind::Empty;
-  std::vector<Word> words;          // for LineKind::Block, in source order
-  std::optional<LineError> error;   // the first lexical error; `words` is then incomplete
+  std::vector<Word> words;          // in source order
+  std::vector<Assignment> assignments;
+  std::optional<OWord> o;
+  std::vector<LineMessage> messages;
+  std::optional<LineError> error;   // the first error; the rest of the line is then incomplete
 };
 
-// Lexes one line (without its '\n'). Dialect-neutral: any letter makes a word; which letters and
-// codes mean something is decided by the block check. Never throws on any bytes.
+// Lexes one line (without its '\n'), evaluating values with `params`. Never throws on any bytes.
+// `out` is reused (its buffers keep their capacity).
+void lex_line(std::string_view line, const Parameters& params, LexedLine& out);
+// Convenience for tests and tools: parameters all zero, no named ones.
 LexedLine lex_line(std::string_view line);
+
+// Reads only the O-word header (name, keyword, column) of a line, without evaluating anything:
+// the control-flow index is built from it before the program runs.
+std::optional<OWord> scan_o_word(std::string_view line);
 
 }  // namespace softmc::program::iso

@@ -1,23 +1,62 @@
-// The interpreter's state between blocks: modal settings, feed in effect and current position.
+// The interpreter's state between blocks: modal settings, offsets, feed, tool and current position.
 #pragma once
 
+#include <cmath>
 #include <optional>
+#include <vector>
 
 #include "core/axes.hpp"
+#include "program/ir/iso_ops.hpp"
 #include "program/iso/modes.hpp"
 
 namespace softmc::program::iso {
 
-// Starts as LinuxCNC starts: G80 (no motion mode) G17 G21 G90 G91.1 G94, no feed.
+// Starts as LinuxCNC starts: G80 (no motion mode) G17 G21 G90 G91.1 G94 G40 G49 G54 G61 G98 G97,
+// no feed.
 struct ModalState {
   Motion motion = Motion::None;
   Plane plane = Plane::XY;
   Units units = Units::Mm;
   Distance distance = Distance::Absolute;
-  Distance arc_distance = Distance::Incremental;  // G91.1: I/J relative to the arc's start point
-  std::optional<double> feed_mm_s;                // F converted when programmed; keeps its speed across G20/G21
-  core::Vec position;                             // machine coordinates, mm (no offsets yet)
-  bool ended = false;                             // M2/M30 executed: later text is not part of the program
+  Distance arc_distance = Distance::Incremental;  // G91.1: I/J/K relative to the arc's start point
+  FeedMode feed_mode = FeedMode::PerMinute;
+  Retract retract = Retract::OldZ;
+  std::optional<double> feed_mm_s;  // F converted when programmed; keeps its speed across G20/G21
+  double feed_word = 0;             // F as written (G93: inverse minutes)
+  bool feed_in_block = false;       // G93: this block had its own F
+  PathMode path;                    // G61 at start
+
+  core::Vec position;  // machine coordinates, mm (rotary axes in degrees)
+
+  // Offsets (P-1 program → machine): machine = rotate(program + axis) + work + tool.
+  int coord_system = 1;  // G54
+  core::Vec work;        // active G5x offset
+  double rotation_deg = 0;
+  core::Vec axis;        // active G92 offset
+  core::Vec tool;        // active tool length offset
+  bool tool_length_on = false;
+
+  int selected_tool = 0;  // T
+  int current_tool = 0;   // after M6 / M61
+
+  Comp comp = Comp::Off;
+
+  // Canned cycle words that stay in effect while the cycle repeats (LinuxCNC cycle_cc, _r, _p, _q).
+  double cycle_cc = 0, cycle_r = 0, cycle_p = 0, cycle_q = 0;
+  // The initial level: the third-axis height when the first cycle of a run of cycles began (NAN
+  // outside canned cycles). G98 retracts to it for as long as cycles follow one another.
+  double cycle_il = NAN;
+
+  // G5 continuation: the previous G5's P Q (program units), for a G5 without I J.
+  bool g5_continues = false;
+  double g5_p = 0, g5_q = 0;
+
+  // G5.2 … G5.3 block being collected.
+  std::vector<core::Vec> nurbs_ctrl;
+  std::vector<double> nurbs_weights;
+  int nurbs_order = 3;
+
+  bool ended = false;  // M2/M30 executed: later text is not part of the program
 
   // Set by the parser after a block failed that may have set the feed or the motion mode: the
   // errors that would only echo that failure ("feed rate missing", "no motion mode") are then not

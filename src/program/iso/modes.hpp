@@ -6,10 +6,14 @@
 namespace softmc::program::iso {
 
 // Group 1. None after G80 and at program start: axis words then have no motion to drive.
-enum class Motion : std::uint8_t { None, Rapid, Linear, ArcCw, ArcCcw };  // G80, G0, G1, G2, G3
+enum class Motion : std::uint8_t {
+  None, Rapid, Linear, ArcCw, ArcCcw,   // G80, G0, G1, G2, G3
+  CubicSpline, QuadSpline, Nurbs,       // G5, G5.1, G5.2 (… G5.3)
+  Drill73, Drill81, Drill82, Drill83, Bore85, Bore86, Bore89  // canned cycles
+};
 
-// Group 2. Only XY exists for now; the others are refused with a clear message by the block check.
-enum class Plane : std::uint8_t { XY };  // G17
+// Group 2: the arc plane, named by (first axis, second axis); the normal is the third.
+enum class Plane : std::uint8_t { XY, XZ, YZ };  // G17, G18 (Z,X), G19 (Y,Z)
 
 // Group 6. Everything inside is mm: inch words are scaled where they are read.
 enum class Units : std::uint8_t { Mm, Inch };  // G21, G20
@@ -17,11 +21,35 @@ enum class Units : std::uint8_t { Mm, Inch };  // G21, G20
 // Group 3 (axis words, G90/G91) and group 4 (arc centre words, G90.1/G91.1).
 enum class Distance : std::uint8_t { Absolute, Incremental };
 
+// Group 5. G95 (per revolution) is refused: the machines have no spindle feedback.
+enum class FeedMode : std::uint8_t { PerMinute, InverseTime };  // G94, G93
+
+// Group 10: where canned cycles retract to.
+enum class Retract : std::uint8_t { OldZ, RPlane };  // G98, G99
+
+// Group 7.
+enum class Comp : std::uint8_t { Off, Left, Right };  // G40, G41/G41.1, G42/G42.1
+
 constexpr bool is_arc(Motion m) { return m == Motion::ArcCw || m == Motion::ArcCcw; }
-constexpr bool is_feed_motion(Motion m) { return m == Motion::Linear || is_arc(m); }
+constexpr bool is_cycle(Motion m) { return m >= Motion::Drill73; }
+constexpr bool is_spline(Motion m) { return m == Motion::CubicSpline || m == Motion::QuadSpline || m == Motion::Nurbs; }
+constexpr bool is_feed_motion(Motion m) { return m != Motion::None && m != Motion::Rapid; }
 
 inline constexpr double kMmPerInch = 25.4;
 
 constexpr double mm_per_unit(Units u) { return u == Units::Inch ? kMmPerInch : 1.0; }
+
+// Plane axes: (first, second, normal) as axis indices (X=0, Y=1, Z=2).
+struct PlaneAxes {
+  std::uint8_t a0, a1, n;
+};
+constexpr PlaneAxes axes_of(Plane p) {
+  switch (p) {
+    case Plane::XZ: return {2, 0, 1};
+    case Plane::YZ: return {1, 2, 0};
+    case Plane::XY: break;
+  }
+  return {0, 1, 2};
+}
 
 }  // namespace softmc::program::iso

@@ -1,21 +1,32 @@
-// ISO/RS274 program: lines → lexer → block check → interpreter → Program, with every error kept.
+// ISO/RS274 program: files → lines → (O-word flow | lexer → block check → interpreter) → Program.
 //
-//   text ──split at '\n'──► lex_line ──words──► check_block ──Block──► execute(ModalState) ──► Ops
-//                              │ error              │ error                 │ error
-//                              └────────────────────┴───────────────────────┴──► Diagnostic, next line
+//   file ──lines──► index_flow (O-word structure, once per file)
+//     run: pc ─► O-word line? ── jump (if/while/do/repeat/call/return …, conditions evaluated now)
+//                   │ no
+//                   ▼
+//              lex_line(params) ─► check_block ─► execute(ModalState) ─► ops ─► [cutter comp] ─► Program
+//                   │ error            │ error          │ error
+//                   └──────────────────┴────────────────┴──► Diagnostic, next line
 //
-// Recovery is per line: a block with an error changes no state and emits nothing, and reading goes
-// on with the next line, so one pass reports every independent error.
+// The interpreter runs entirely here, before anything moves: loops are unrolled and subroutines
+// expanded into canonical instructions. Recovery is per line: a block with an error changes no
+// state and emits nothing, and reading goes on with the next line, so one pass reports every
+// independent error. Loops, recursion and the total work are bounded by ParseOptions.
 #include "program/iso/parser.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <memory>
+#include <unordered_set>
 
 #include <fmt/format.h>
 
 #include "program/iso/block.hpp"
+#include "program/iso/cutter_comp.hpp"
+#include "program/iso/flow_index.hpp"
 #include "program/iso/interpreter.hpp"
 #include "program/iso/lexer.hpp"
 #include "program/iso/modal_state.hpp"
@@ -56,88 +67,547 @@ bool mentions_letter(std::string_view line, char c) {
   return false;
 }
 
+std::optional<std::string> read_text(const std::string& path, std::string& text) {
+  std::error_code ec;
+  bool ok = std::filesystem::is_regular_file(path, ec) && !ec;  // a directory opens but does not read
+  if (ok) {
+    std::ifstream in(path, std::ios::binary);
+    ok = static_cast<bool>(in);
+    if (ok) text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  if (!ok) return std::string("cannot read file");
+  return std::nullopt;
+}
+
+struct SourceFile {
+  std::string path;
+  std::string text;
+  std::vector<std::string_view> lines;
+  FlowIndex flow;
+};
+
+struct LoopCount {
+  std::size_t file = 0, line = 0;
+  std::size_t count = 0;
+  long long repeat_left = 0;
+};
+
+struct CallFrame {
+  std::size_t file = 0, return_line = 0;
+  std::vector<LoopCount> loops;
+};
+
 class ProgramReader {
  public:
-  ProgramReader(const std::string& file, const ParseOptions& opt) : file_(file) {
+  ProgramReader(const std::string& file, const ParseOptions& opt) : opt_(opt) {
     program_.files = {file};
     program_.start = opt.start;
     state_.position = opt.start;
+    interp_.tools = opt.tools;
+    interp_.mtable = opt.m_table;
+    interp_.g23_tolerance_mm = opt.g23_tolerance_mm;
+    frames_.emplace_back();
+    const auto dir = std::filesystem::path(file).parent_path();
+    main_dir_ = dir.empty() ? std::string(".") : dir.string();
   }
 
   ParseResult run(std::string_view text) {
     for (const double v : program_.start.v)
-      if (!std::isfinite(v)) add_error(0, 0, "start position is not finite");
-    std::uint32_t line_no = 0;
-    std::size_t pos = 0;
-    while (pos <= text.size() && !done_) {
-      const std::size_t nl = text.find('\n', pos);
-      const std::size_t end = nl == std::string_view::npos ? text.size() : nl;
-      ++line_no;
-      read_line(text.substr(pos, end - pos), line_no);
-      if (nl == std::string_view::npos) break;
-      pos = nl + 1;
+      if (!std::isfinite(v)) add_error(0, 0, 0, "start position is not finite");
+    add_file(program_.files[0], std::string(text));
+    std::size_t f = 0, pc = 0;
+    while (!done_) {
+      const SourceFile& sf = *files_[f];
+      if (pc >= sf.lines.size()) {
+        if (frames_.size() > 1) {  // fell off a subroutine file (already reported: no endsub)
+          return_from_sub(f, pc);
+          continue;
+        }
+        break;
+      }
+      if (++blocks_ > opt_.max_blocks) {
+        add_error(f, pc, 1, fmt::format("the program runs more than {} blocks (endless loop?): stopping here", opt_.max_blocks));
+        done_ = true;
+        break;
+      }
+      if (const OEntry* e = sf.flow.at(pc)) {
+        o_line(*e, f, pc);
+      } else {
+        read_line(f, pc);
+        ++pc;
+      }
     }
+    finish();
     ParseResult r;
+    std::stable_sort(diags_.begin(), diags_.end(), [&](const core::Diagnostic& a, const core::Diagnostic& b) {
+      const auto fa = file_rank(a.file), fb = file_rank(b.file);
+      if (fa != fb) return fa < fb;
+      if (a.line != b.line) return a.line < b.line;
+      return a.col < b.col;
+    });
+    if (note_) diags_.push_back(*note_);
     r.diagnostics = std::move(diags_);
     if (!core::has_errors(r.diagnostics)) r.program = std::move(program_);
     return r;
   }
 
  private:
-  void read_line(std::string_view line, std::uint32_t line_no) {
-    LexedLine lexed = lex_line(line);
-    if (lexed.kind == LineKind::Percent) {
+  std::size_t file_rank(const std::string& name) const {
+    for (std::size_t i = 0; i < program_.files.size(); ++i)
+      if (program_.files[i] == name) return i;
+    return program_.files.size();
+  }
+
+  std::size_t add_file(const std::string& path, std::string text) {
+    auto sf = std::make_unique<SourceFile>();
+    sf->path = path;
+    sf->text = std::move(text);
+    std::string_view t = sf->text;
+    std::size_t pos = 0;
+    while (pos <= t.size()) {
+      const std::size_t nl = t.find('\n', pos);
+      const std::size_t end = nl == std::string_view::npos ? t.size() : nl;
+      sf->lines.push_back(t.substr(pos, end - pos));
+      if (nl == std::string_view::npos) break;
+      pos = nl + 1;
+    }
+    std::vector<IndexError> errs;
+    sf->flow = index_flow(sf->lines, errs);
+    files_.push_back(std::move(sf));
+    const std::size_t f = files_.size() - 1;
+    for (auto& e : errs) add_error(f, e.line, e.error.col, std::move(e.error.message));
+    return f;
+  }
+
+  // ---- plain blocks ----
+
+  void read_line(std::size_t f, std::size_t pc) {
+    const std::string_view line = files_[f]->lines[pc];
+    lex_line(line, params_, lexed_);
+    if (lexed_.kind == LineKind::Percent) {
       // A '%' before any block opens the program; any later one closes it: the rest is not read.
-      if (seen_block_ || percent_open_) done_ = true;
-      percent_open_ = true;
+      if (f == 0 && frames_.size() == 1) {
+        if (seen_block_ || percent_open_) done_ = true;
+        percent_open_ = true;
+      }
       return;
     }
-    if (lexed.kind == LineKind::Empty || lexed.kind == LineKind::BlockDelete) return;
+    if (lexed_.kind == LineKind::Empty || lexed_.kind == LineKind::BlockDelete) return;
     if (state_.ended) {
       // RS274 stops reading at M2/M30; say so once, so that text left behind is not a silent surprise.
-      const std::uint32_t col = lexed.error ? lexed.error->col : lexed.words.front().col;
-      add_diag(line_no, col, core::Severity::Warning, "text after the program end (M2/M30) is ignored");
+      const std::uint32_t col = lexed_.error ? lexed_.error->col : lexed_.words.empty() ? 1 : lexed_.words.front().col;
+      add_diag(f, pc, col, core::Severity::Warning, "text after the program end (M2/M30) is ignored");
       done_ = true;
       return;
     }
     seen_block_ = true;
-    if (lexed.error) return fail(line, line_no, std::move(*lexed.error));
-    Block block;
-    if (auto e = check_block(lexed.words, block)) return fail(line, line_no, std::move(*e));
-    ops_.clear();
-    if (auto e = execute(block, state_, ops_)) return fail(line, line_no, std::move(*e));
-    const core::SourceLoc loc{0, line_no, block.col};
-    for (auto& op : ops_) program_.instructions.push_back(Instruction{loc, std::move(op)});
+    if (lexed_.error) return fail(f, pc, line, std::move(*lexed_.error));
+    // Parameters set on a line take effect after the whole line has been read (LinuxCNC).
+    for (const auto& a : lexed_.assignments) {
+      if (a.named) {
+        params_.write_named(a.name, a.value);
+      } else if (auto err = params_.write(a.number, a.value)) {
+        add_error(f, pc, a.col, std::move(*err));
+      }
+    }
+    if (lexed_.words.empty()) {
+      emit_messages(f, pc, lexed_.assignments.empty() ? 1 : lexed_.assignments.front().col);
+      return;
+    }
+    if (auto e = check_block(lexed_.words, mtable(), block_)) return fail(f, pc, line, std::move(*e));
+    out_.clear();
+    const core::Vec before = state_.position;
+    if (auto e = execute(block_, state_, params_, interp_, out_)) return fail(f, pc, line, std::move(*e));
+    emit_messages(f, pc, block_.col);
+    for (const auto& [n, v] : out_.param_writes) params_.set(n, v);
+    if (out_.m66) params_.set_runtime_only(kM66Result);
+    deliver(core::SourceLoc{static_cast<std::uint16_t>(f), line_no(pc), block_.col}, before);
+    update_position_parameters();
+    if (state_.ended && frames_.size() > 1) done_ = true;  // M2/M30 in a subroutine ends everything
   }
 
-  void fail(std::string_view line, std::uint32_t line_no, LineError e) {
+  void emit_messages(std::size_t f, std::size_t pc, std::uint32_t col) {
+    for (auto& m : lexed_.messages)
+      put(Instruction{core::SourceLoc{static_cast<std::uint16_t>(f), line_no(pc), col}, Message{m.kind, std::move(m.text)}});
+  }
+
+  // The block's ops to the program, through cutter compensation while it is on.
+  void deliver(const core::SourceLoc& loc, const core::Vec& before) {
+    for (std::size_t i = 0; i <= out_.ops.size(); ++i) {
+      if (out_.comp && out_.comp->at == i) switch_comp(loc, before, i == out_.ops.size());
+      if (i < out_.ops.size()) put(Instruction{loc, std::move(out_.ops[i])});
+    }
+  }
+
+  void switch_comp(const core::SourceLoc& loc, const core::Vec& before, bool last) {
+    const auto& c = *out_.comp;
+    if (c.on) {
+      if (auto msg = comp_.start(c.side, c.radius_mm, c.axis0, c.axis1, before)) add_error_loc(loc, std::move(*msg));
+      return;
+    }
+    comp_out_.clear();
+    comp_.stop(comp_out_);
+    for (auto& ins : comp_out_) program_.instructions.push_back(std::move(ins));
+    if (last) state_.position = comp_.tool_position();  // the next move starts where the tool is
+  }
+
+  void put(Instruction ins) {
+    if (!comp_.active()) {
+      program_.instructions.push_back(std::move(ins));
+      return;
+    }
+    comp_out_.clear();
+    if (auto e = comp_.push(ins, comp_out_)) add_error_loc(e->loc, std::move(e->message));
+    for (auto& i : comp_out_) program_.instructions.push_back(std::move(i));
+  }
+
+  void update_position_parameters() {
+    const core::Vec p = to_program(state_, state_.position);
+    for (std::size_t a = 0; a < core::kMaxAxes; ++a) params_.set(kCurrentPosition + static_cast<int>(a), p[a]);
+    params_.set(kToolNumber, state_.current_tool);
+    const Tool* t = opt_.tools ? opt_.tools->find(state_.current_tool) : nullptr;
+    params_.set(kToolDiameter, t ? t->diameter_mm : 0.0);
+  }
+
+  void fail(std::size_t f, std::size_t pc, std::string_view line, LineError e) {
     if (mentions_letter(line, 'F')) state_.feed_uncertain = true;
     if (mentions_letter(line, 'G')) state_.motion_uncertain = true;
-    add_error(line_no, e.col, std::move(e.message));
+    add_error(f, pc, e.col, std::move(e.message));
   }
 
-  void add_error(std::uint32_t line_no, std::uint32_t col, std::string message) {
+  // ---- O-words ----
+
+  // Evaluates the O-word line (its [values]); false (reported) when it has an error.
+  bool eval_o(std::size_t f, std::size_t pc, OWord& out) {
+    lex_line(files_[f]->lines[pc], params_, lexed_);
+    if (lexed_.error) {
+      add_error(f, pc, lexed_.error->col, std::move(lexed_.error->message));
+      return false;
+    }
+    if (!lexed_.o) return false;
+    emit_messages(f, pc, lexed_.o->col);
+    out = std::move(*lexed_.o);
+    return true;
+  }
+
+  bool condition(std::size_t f, std::size_t pc, bool& value) {
+    OWord o;
+    if (!eval_o(f, pc, o)) return false;
+    if (o.args.size() != 1) {
+      add_error(f, pc, o.col, fmt::format("o{} {} needs one condition in [ ]", o.name, to_string(o.keyword)));
+      return false;
+    }
+    value = o.args[0] != 0.0;
+    return true;
+  }
+
+  LoopCount* loop(std::size_t f, std::size_t line) {
+    for (auto& l : frames_.back().loops)
+      if (l.file == f && l.line == line) return &l;
+    return nullptr;
+  }
+  void drop_loop(std::size_t f, std::size_t line) {
+    auto& v = frames_.back().loops;
+    v.erase(std::remove_if(v.begin(), v.end(), [&](const LoopCount& l) { return l.file == f && l.line == line; }), v.end());
+  }
+  // Counts one more pass of the loop opened at `line`; false (reported, program stopped) past the limit.
+  bool count_pass(std::size_t f, std::size_t line, const OEntry& e) {
+    LoopCount* l = loop(f, line);
+    if (!l) {
+      frames_.back().loops.push_back(LoopCount{f, line, 0, 0});
+      l = &frames_.back().loops.back();
+    }
+    if (++l->count > opt_.max_loop_iterations) {
+      add_error(f, line, e.o.col, fmt::format("loop o{} ran more than {} times: endless loop? (stopping here)", e.o.name,
+                                              opt_.max_loop_iterations));
+      done_ = true;
+      return false;
+    }
+    return true;
+  }
+
+  void o_line(const OEntry& e, std::size_t& f, std::size_t& pc) {
+    if (state_.ended) {
+      if (e.o.keyword == OKeyword::Sub && e.valid) {  // subroutines may follow M2 (they are never run)
+        pc = e.end + 1;
+        return;
+      }
+      add_diag(f, pc, e.o.col, core::Severity::Warning, "text after the program end (M2/M30) is ignored");
+      done_ = true;
+      return;
+    }
+    const bool back = back_edge_;
+    back_edge_ = false;
+    if (!e.valid && e.o.keyword != OKeyword::Call) {  // structure error, already reported
+      ++pc;
+      return;
+    }
+    seen_block_ = true;
+    switch (e.o.keyword) {
+      case OKeyword::Sub: pc = e.end + 1; return;  // a definition: skipped until called
+      case OKeyword::EndSub:
+      case OKeyword::Return: {
+        OWord o;
+        if (eval_o(f, pc, o) && !o.args.empty()) {
+          params_.write_named("_value", o.args[0]);
+          params_.write_named("_value_returned", 1);
+        }
+        if (frames_.size() <= 1) {
+          add_error(f, pc, e.o.col, fmt::format("o{} {} reached outside a call", e.o.name, to_string(e.o.keyword)));
+          ++pc;
+          return;
+        }
+        return_from_sub(f, pc);
+        return;
+      }
+      case OKeyword::Call: call(e, f, pc); return;
+      case OKeyword::If: {
+        bool v = false;
+        condition(f, pc, v);
+        if (v) {
+          ++pc;
+          return;
+        }
+        for (std::size_t b = e.next; b != kNoLine;) {
+          const OEntry* be = files_[f]->flow.at(b);
+          if (!be) break;
+          if (be->o.keyword == OKeyword::ElseIf) {
+            bool bv = false;
+            condition(f, b, bv);
+            if (bv) {
+              pc = b + 1;
+              return;
+            }
+            b = be->next;
+            continue;
+          }
+          pc = b + 1;  // else or endif
+          return;
+        }
+        pc = e.end + 1;
+        return;
+      }
+      case OKeyword::ElseIf:
+      case OKeyword::Else: pc = e.end + 1; return;  // the branch before it ran: leave the if
+      case OKeyword::EndIf:
+      case OKeyword::Do:
+        if (e.o.keyword == OKeyword::Do && !back) drop_loop(f, pc);
+        ++pc;
+        return;
+      case OKeyword::While: {
+        if (e.do_end) {
+          bool v = false;
+          condition(f, pc, v);
+          if (v && count_pass(f, e.end, e)) {
+            pc = e.end + 1;
+            back_edge_ = true;
+          } else {
+            drop_loop(f, e.end);
+            ++pc;
+          }
+          return;
+        }
+        if (!back) drop_loop(f, pc);
+        bool v = false;
+        condition(f, pc, v);
+        if (v && count_pass(f, pc, e)) {
+          ++pc;
+        } else {
+          drop_loop(f, pc);
+          pc = e.end + 1;
+        }
+        return;
+      }
+      case OKeyword::EndWhile:
+        pc = e.end;
+        back_edge_ = true;
+        return;
+      case OKeyword::Repeat: {
+        OWord o;
+        double n = 0;
+        if (eval_o(f, pc, o)) {
+          if (o.args.size() != 1) add_error(f, pc, o.col, fmt::format("o{} repeat needs the count in [ ]", o.name));
+          else n = o.args[0];
+        }
+        if (n < 0 || n != std::floor(n)) {
+          add_error(f, pc, e.o.col, fmt::format("repeat count {:g} is not a whole number, 0 or more", n));
+          n = 0;
+        }
+        if (n > static_cast<double>(opt_.max_loop_iterations)) {
+          add_error(f, pc, e.o.col, fmt::format("repeat count {:g} is above the loop limit {}", n, opt_.max_loop_iterations));
+          done_ = true;
+          return;
+        }
+        drop_loop(f, pc);
+        if (n == 0) {
+          pc = e.end + 1;
+          return;
+        }
+        frames_.back().loops.push_back(LoopCount{f, pc, 0, static_cast<long long>(n)});
+        ++pc;
+        return;
+      }
+      case OKeyword::EndRepeat: {
+        LoopCount* l = loop(f, e.end);
+        if (l && --l->repeat_left > 0) {
+          pc = e.end + 1;
+        } else {
+          drop_loop(f, e.end);
+          ++pc;
+        }
+        return;
+      }
+      case OKeyword::Break: {
+        const OEntry* open = files_[f]->flow.at(e.end);
+        drop_loop(f, e.end);
+        pc = open ? open->end + 1 : pc + 1;
+        return;
+      }
+      case OKeyword::Continue: {
+        const OEntry* open = files_[f]->flow.at(e.end);
+        if (!open) {
+          ++pc;
+          return;
+        }
+        if (open->o.keyword == OKeyword::While) {
+          pc = e.end;
+          back_edge_ = true;
+        } else {
+          pc = open->end;  // do: its closing while; repeat: its endrepeat
+        }
+        return;
+      }
+    }
+  }
+
+  // Finds a subroutine: the current file, the main file, files loaded so far, then <name>.ngc on
+  // the subroutine path and in the main file's directory.
+  bool find_sub(const std::string& name, std::size_t f, std::size_t& sub_file, std::size_t& sub_line, std::string& why) {
+    auto look = [&](std::size_t i) {
+      const auto it = files_[i]->flow.subs.find(name);
+      if (it == files_[i]->flow.subs.end()) return false;
+      sub_file = i;
+      sub_line = files_[i]->flow.entries[it->second].line;
+      return true;
+    };
+    if (look(f) || look(0)) return true;
+    for (std::size_t i = 1; i < files_.size(); ++i)
+      if (look(i)) return true;
+    std::string base = name;
+    if (base.size() >= 2 && base.front() == '<') base = base.substr(1, base.size() - 2);
+    std::vector<std::string> dirs = opt_.subroutine_path;
+    dirs.push_back(main_dir_);
+    for (const auto& d : dirs) {
+      const std::string path = (std::filesystem::path(d) / (base + ".ngc")).string();
+      std::string text;
+      if (read_text(path, text)) continue;
+      if (files_.size() >= 1000) {
+        why = "too many subroutine files";
+        return false;
+      }
+      program_.files.push_back(path);
+      const std::size_t nf = add_file(path, std::move(text));
+      if (look(nf)) return true;
+      why = fmt::format("{} does not define o{} sub", path, name);
+      return false;
+    }
+    why = fmt::format("subroutine o{} is not defined in the program, and no {}.ngc on the subroutine path", name, base);
+    return false;
+  }
+
+  void call(const OEntry& e, std::size_t& f, std::size_t& pc) {
+    OWord o;
+    if (!eval_o(f, pc, o)) {
+      ++pc;
+      return;
+    }
+    std::size_t sf = 0, sl = 0;
+    std::string why;
+    if (!find_sub(o.name, f, sf, sl, why)) {
+      add_error(f, pc, e.o.col, why);
+      ++pc;
+      return;
+    }
+    if (frames_.size() > opt_.max_call_depth) {
+      add_error(f, pc, e.o.col, fmt::format("subroutine calls nested more than {} deep (endless recursion?)", opt_.max_call_depth));
+      done_ = true;
+      return;
+    }
+    params_.write_named("_value_returned", 0);
+    params_.push_frame(o.args.data(), o.args.size());
+    frames_.push_back(CallFrame{f, pc + 1, {}});
+    f = sf;
+    pc = sl + 1;
+  }
+
+  void return_from_sub(std::size_t& f, std::size_t& pc) {
+    f = frames_.back().file;
+    pc = frames_.back().return_line;
+    frames_.pop_back();
+    params_.pop_frame();
+  }
+
+  void finish() {
+    if (state_.motion == Motion::Nurbs && !state_.ended && !done_)
+      add_error(0, files_[0]->lines.size() - 1, 1, "the program ends inside a G5.2 block: close it with G5.3");
+    if (comp_.active()) {
+      comp_out_.clear();
+      comp_.stop(comp_out_);
+      for (auto& ins : comp_out_) program_.instructions.push_back(std::move(ins));
+    }
+  }
+
+  // ---- diagnostics ----
+
+  static std::uint32_t line_no(std::size_t pc) { return static_cast<std::uint32_t>(std::min<std::size_t>(pc + 1, 0xFFFFFFFFu)); }
+
+  void add_error(std::size_t f, std::size_t pc, std::uint32_t col, std::string message) {
+    add_error_at(files_.empty() ? program_.files[0] : files_[f]->path, f == 0 && files_.empty() ? 0 : line_no(pc), col,
+                 std::move(message));
+  }
+  void add_error_loc(const core::SourceLoc& loc, std::string message) {
+    add_error_at(files_[loc.file]->path, loc.line, loc.col, std::move(message));
+  }
+  void add_error_at(const std::string& file, std::uint32_t line, std::uint32_t col, std::string message) {
+    if (!seen_.insert(fmt::format("{}:{}:{}:{}", file, line, col, message)).second) return;  // a loop repeats it
     if (errors_ == kMaxErrors) {
-      add_diag(line_no, col, core::Severity::Note, fmt::format("too many errors ({}); stopping here", kMaxErrors));
+      note_ = make_diag(file, line, col, core::Severity::Note, fmt::format("too many errors ({}); stopping here", kMaxErrors));
       done_ = true;
       return;
     }
     ++errors_;
-    add_diag(line_no, col, core::Severity::Error, std::move(message));
+    diags_.push_back(make_diag(file, line, col, core::Severity::Error, std::move(message)));
+  }
+  void add_diag(std::size_t f, std::size_t pc, std::uint32_t col, core::Severity sev, std::string message) {
+    diags_.push_back(make_diag(files_[f]->path, line_no(pc), col, sev, std::move(message)));
   }
 
-  void add_diag(std::uint32_t line_no, std::uint32_t col, core::Severity sev, std::string message) {
-    diags_.push_back(make_diag(file_, line_no, col, sev, std::move(message)));
+  const MTable& mtable() const {
+    static const MTable kFixed;
+    return opt_.m_table ? *opt_.m_table : kFixed;
   }
 
-  const std::string& file_;
+  const ParseOptions& opt_;
+  InterpOptions interp_;
   Program program_;
   ModalState state_;
+  Parameters params_;
+  CutterComp comp_;
+  std::vector<Instruction> comp_out_;
+  std::vector<std::unique_ptr<SourceFile>> files_;
+  std::vector<CallFrame> frames_;
+  std::string main_dir_;
+  LexedLine lexed_;
+  Block block_;
+  BlockOutput out_;
   core::Diagnostics diags_;
-  std::vector<Op> ops_;
+  std::optional<core::Diagnostic> note_;
+  std::unordered_set<std::string> seen_;
   std::size_t errors_ = 0;
+  std::size_t blocks_ = 0;
   bool seen_block_ = false;
   bool percent_open_ = false;
+  bool back_edge_ = false;
   bool done_ = false;
 };
 
@@ -148,17 +618,10 @@ ParseResult parse(std::string_view text, const std::string& file_name, const Par
 }
 
 ParseResult parse_file(const std::string& path, const ParseOptions& opt) {
-  std::error_code ec;
   std::string text;
-  bool ok = std::filesystem::is_regular_file(path, ec) && !ec;  // a directory opens but does not read
-  if (ok) {
-    std::ifstream in(path, std::ios::binary);
-    ok = static_cast<bool>(in);
-    if (ok) text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  }
-  if (!ok) {
+  if (auto err = read_text(path, text)) {
     ParseResult r;
-    r.diagnostics.push_back(make_diag(path, 0, 0, core::Severity::Error, "cannot read file"));
+    r.diagnostics.push_back(make_diag(path, 0, 0, core::Severity::Error, *err));
     return r;
   }
   return parse(text, path, opt);

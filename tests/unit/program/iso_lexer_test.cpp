@@ -119,9 +119,9 @@ TEST(IsoLexer, CommentErrors) {
 
 TEST(IsoLexer, StrayCharacters) {
   EXPECT_EQ(lex_error("10 X1"), "1: number without a word letter in front of it");
-  EXPECT_EQ(lex_error("G1 #1"), "4: parameters (#) are not supported yet");
-  EXPECT_EQ(lex_error("G1 X#1"), "4: parameters (#) are not supported yet");
-  EXPECT_EQ(lex_error("X[1+2]"), "1: expressions ([...]) are not supported yet");
+  EXPECT_EQ(lex_error("G1 #1"), "4: parameter without '=': a parameter is set with #n = value");
+  EXPECT_EQ(lex_error("G1 [1]"), "4: expression without a word letter in front of it");
+  EXPECT_EQ(lex_error("G1 X1]"), "6: ']' without an opening '['");
   EXPECT_EQ(lex_error("G1 X1 %"), "7: '%' must be alone on its line");
   EXPECT_EQ(lex_error("G1 /X1"), "4: '/' (block delete) must be the first character of the line");
   EXPECT_EQ(lex_error("G1 X1 @"), "7: unexpected character '@'");

@@ -1,0 +1,3 @@
+N000 G01 G90 X0 FX0
+N001 G01 G90 X1000 FX0
+N002 G01 G91 X-50 FX50 ; 50 % of the maximum speed

@@ -1,0 +1,47 @@
+// The control-flow index of one file: every O-word line with the lines it jumps to, built before
+// the program runs so that structure errors are reported in one pass and jumps cost nothing.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <vector>
+
+#include "program/iso/lexer.hpp"
+#include "program/iso/line_error.hpp"
+
+namespace softmc::program::iso {
+
+inline constexpr std::size_t kNoLine = static_cast<std::size_t>(-1);
+
+struct OEntry {
+  OWord o;                    // header only (name, keyword, col)
+  std::size_t line = 0;       // 0-based line index
+  std::size_t next = kNoLine; // if/elseif/else: the next branch line (elseif, else or endif)
+  std::size_t end = kNoLine;  // sub: endsub; if/elseif/else: endif; while/do/repeat: closing line;
+                              // endwhile/endrepeat/do-end while: the opening line;
+                              // break/continue: the opening line of their loop
+  bool do_end = false;        // a "while" that closes a "do"
+  bool valid = false;         // structure complete: jumps may be taken
+};
+
+struct FlowIndex {
+  std::vector<std::uint32_t> entry_of;  // per line: index into entries + 1, 0 = not an O-word line
+  std::vector<OEntry> entries;
+  std::unordered_map<std::string, std::size_t> subs;  // name → entry index of its "sub"
+
+  const OEntry* at(std::size_t line) const {
+    return line < entry_of.size() && entry_of[line] ? &entries[entry_of[line] - 1] : nullptr;
+  }
+};
+
+struct IndexError {
+  std::size_t line = 0;  // 0-based
+  LineError error;
+};
+
+// Builds the index of `lines`; structure errors (unmatched or misnamed keywords) go to `errors`.
+FlowIndex index_flow(const std::vector<std::string_view>& lines, std::vector<IndexError>& errors);
+
+}  // namespace softmc::program::iso

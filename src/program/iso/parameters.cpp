@@ -1,0 +1,68 @@
+// Parameters of RS274/NGC as LinuxCNC has them: numbered #1…#5602, named locals #<x> and globals #<_x>.
+#include "program/iso/parameters.hpp"
+
+#include <fmt/format.h>
+
+namespace softmc::program::iso {
+
+Parameters::Parameters() : numbered_(kMaxParameter + 1, 0.0), frames_(1) {}
+
+std::optional<std::string> Parameters::read(long long n, double& out) const {
+  if (n < 1 || n > kMaxParameter) return fmt::format("parameter #{} does not exist (#1 … #{})", n, kMaxParameter);
+  if (n == runtime_only_)
+    return fmt::format("branching on M66 results is not supported: #{} is only known when the program runs", n);
+  out = get(static_cast<int>(n));
+  return std::nullopt;
+}
+
+std::optional<std::string> Parameters::write(long long n, double v) {
+  if (n < 1 || n > kMaxParameter) return fmt::format("parameter #{} does not exist (#1 … #{})", n, kMaxParameter);
+  if (n >= kToolNumber) return fmt::format("parameter #{} is read-only", n);
+  set(static_cast<int>(n), v);
+  return std::nullopt;
+}
+
+std::optional<std::string> Parameters::read_named(std::string_view name, double& out) const {
+  if (!name.empty() && name[0] == '_') {
+    const auto it = globals_.find(std::string(name));
+    if (it == globals_.end()) return fmt::format("named parameter #<{}> is not defined", name);
+    out = it->second;
+    return std::nullopt;
+  }
+  for (const auto& [k, v] : frames_.back().named)
+    if (k == name) {
+      out = v;
+      return std::nullopt;
+    }
+  return fmt::format("named parameter #<{}> is not defined", name);
+}
+
+void Parameters::write_named(std::string_view name, double v) {
+  if (!name.empty() && name[0] == '_') {
+    globals_[std::string(name)] = v;
+    return;
+  }
+  auto& named = frames_.back().named;
+  for (auto& [k, old] : named)
+    if (k == name) {
+      old = v;
+      return;
+    }
+  named.emplace_back(std::string(name), v);
+}
+
+bool Parameters::exists(std::string_view name) const {
+  double ignored = 0;
+  return !read_named(name, ignored);
+}
+
+void Parameters::push_frame(const double* args, std::size_t n) {
+  frames_.emplace_back();
+  for (std::size_t i = 0; i < n && i < kLocalParameters; ++i) frames_.back().local[i + 1] = args[i];
+}
+
+void Parameters::pop_frame() {
+  if (frames_.size() > 1) frames_.pop_back();
+}
+
+}  // namespace softmc::program::iso

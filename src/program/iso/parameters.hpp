@@ -1,0 +1,76 @@
+// Parameters of RS274/NGC as LinuxCNC has them: numbered #1…#5602, named locals #<x> and globals #<_x>.
+//
+// #1…#30 and named locals live in the frame of the current subroutine call (a call gets fresh
+// ones: its arguments in #1…#n); every other numbered parameter and every global is shared. Values
+// of lengths are in machine units (mm), as LinuxCNC keeps them in its "user" units.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+namespace softmc::program::iso {
+
+inline constexpr int kMaxParameter = 5602;  // LinuxCNC RS274NGC_MAX_PARAMETERS - 1
+inline constexpr int kLocalParameters = 30; // #1…#30
+inline constexpr int kM66Result = 5399;
+
+// Standard numbered parameters (LinuxCNC "Numbered Parameters"); axis i adds i (X=0 … W=8).
+inline constexpr int kG28Home = 5161;
+inline constexpr int kG30Home = 5181;
+inline constexpr int kG92Enabled = 5210;
+inline constexpr int kG92Offset = 5211;
+inline constexpr int kCoordSystem = 5220;         // 1 = G54 … 9 = G59.3
+inline constexpr int kCoordSystemBase = 5221;     // G54 X; G55 X is 5241, … (20 apart); +9 = R
+inline constexpr int kToolNumber = 5400;
+inline constexpr int kToolOffset = 5401;          // 5401…5409
+inline constexpr int kToolDiameter = 5410;
+inline constexpr int kCurrentPosition = 5420;     // 5420…5428, program coordinates
+
+constexpr int coord_param(int system, std::size_t axis) { return kCoordSystemBase + 20 * (system - 1) + static_cast<int>(axis); }
+constexpr int rotation_param(int system) { return kCoordSystemBase + 20 * (system - 1) + 9; }
+
+class Parameters {
+ public:
+  Parameters();
+
+  // Numbered read/write with LinuxCNC's range check; the message says why a read or write fails.
+  std::optional<std::string> read(long long n, double& out) const;
+  std::optional<std::string> write(long long n, double v);
+  // Direct access for the interpreter's own bookkeeping (n in range).
+  double get(int n) const { return n <= kLocalParameters ? frames_.back().local[n] : numbered_[n]; }
+  void set(int n, double v) {
+    if (n <= kLocalParameters) frames_.back().local[n] = v;
+    else numbered_[n] = v;
+  }
+
+  // Named parameters; `name` is lower case without spaces or brackets. Names starting with '_'
+  // are global, others local to the current call.
+  std::optional<std::string> read_named(std::string_view name, double& out) const;
+  void write_named(std::string_view name, double v);
+  bool exists(std::string_view name) const;
+
+  // Subroutine calls: a fresh frame with args in #1…#n, dropped on return.
+  void push_frame(const double* args, std::size_t n);
+  void pop_frame();
+  std::size_t depth() const { return frames_.size() - 1; }
+
+  // After M66 the result #5399 is only known at run time: reading it is refused from then on.
+  void set_runtime_only(int n) { runtime_only_ = n; }
+
+ private:
+  struct Frame {
+    std::array<double, kLocalParameters + 1> local{};
+    std::vector<std::pair<std::string, double>> named;
+  };
+  std::vector<double> numbered_;
+  std::vector<Frame> frames_;
+  std::unordered_map<std::string, double> globals_;
+  int runtime_only_ = 0;
+};
+
+}  // namespace softmc::program::iso
