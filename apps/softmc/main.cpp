@@ -16,6 +16,7 @@
 #include "report/summary.hpp"
 #include "moves.hpp"
 #include "simulation.hpp"
+#include "spc_command.hpp"
 
 namespace {
 
@@ -152,11 +153,21 @@ int main(int argc, char** argv) {
   std::string run_prog, plot, trace_csv;
   bool json = false;
   auto* run = app.add_subcommand("run", "simulate a program on the machine in virtual time and report");
-  run->add_option("program", run_prog, "part program (.ngc)")->required()->check(CLI::ExistingFile);
+  run->add_option("program", run_prog, "part program (.ngc), or an SPC program store (a folder of P<n>.spc) or P<n>.spc")
+      ->required()
+      ->check(CLI::ExistingPath);
   run_m.add_to(run);
   run->add_option("--plot", plot, "write a plot (.svg or .png)");
   run->add_option("--trace", trace_csv, "write one CSV row per cycle");
   run->add_flag("--json", json, "print the summary as one JSON object");
+  app::SpcCommandArgs spc_args;  // SPC runs (docs/spc.md): options over the [spc] configuration
+  run->add_option("--mode", spc_args.mode, "SPC: start-stop or record-select");
+  run->add_option("--task-a", spc_args.task_a, "SPC: start/record program of task A (0..99)");
+  run->add_option("--task-b", spc_args.task_b, "SPC: start/record program of task B (0..99)");
+  run->add_option("--stimulus", spc_args.stimulus, "SPC: input stimulus file (time, signal, value)");
+  run->add_option("--plc", spc_args.plc, "SPC: orders file for the reference PLC of S-10 (time, task, line)");
+  run->add_option("--registers", spc_args.registers, "SPC: SQLite file of the retentive registers (:memory: = none)");
+  run->add_option("--until", spc_args.until_s, "SPC: run this many seconds of virtual time");
 
   std::vector<std::string> check_progs;
   auto* check = app.add_subcommand("check", "parse and validate programs without moving anything");
@@ -179,6 +190,14 @@ int main(int argc, char** argv) {
   }
 
   try {
+    if (*run && is_spc(run_prog)) {
+      spc_args.store = run_prog;
+      spc_args.trace_csv = trace_csv;
+      spc_args.plot = plot;
+      spc_args.json = json;
+      spc_args.machine_label = run_m.file.empty() ? "cutting_table (built-in)" : run_m.file;
+      return app::run_spc_command(spc_args, run_m.load());
+    }
     if (*run) return cmd_run(run_prog, run_m, plot, trace_csv, json);
     if (*check) return cmd_check(check_progs, check_m);
     if (*moves) return cmd_moves(moves_prog, moves_m);

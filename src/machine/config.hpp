@@ -37,12 +37,33 @@ struct AxisConfig {
   friend bool operator==(const AxisConfig&, const AxisConfig&) = default;
 };
 
+// The SPC200 positioning controller (spc200.md), used when `softmc run` is given a program store: the
+// [spc] table. Plain values here; control/spc turns them into its own configuration.
+struct SpcMachineConfig {
+  std::string mode = "start-stop";  // S-8 "start-stop" or S-9 "record-select"
+  int task_a = -1;                  // start (S-8) / record (S-9) program of task A, 0..99; -1 = none
+  int task_b = -1;
+  double self_test_s = 10.0;        // power-up self-test (S-8/S-9: about 10 s)
+  double input_filter_s = 0.005;    // every input's filter time (S-9: 5 ms)
+  double g61_window2_mm = 1.0;      // G61 condition 2..6: actual position within ± this of the target (S-3)
+  double g61_window3_mm = 0.5;
+  double g61_window4_mm = 0.2;
+  double g61_window5_mm = 0.1;
+  double g61_window6_mm = 0.05;
+  double g61_settle_s = 0.05;       // ... for this long
+  double g02_ramp_s = 0.1;          // G02 smoothing: shortest sine-squared acceleration ramp
+  bool g01_s_curve = false;         // G00/G01 jerk-limited (axis max_jerk_mm_s3) instead of trapezoids
+  std::string registers_file;       // SQLite file of the retentive registers; "" = registers.sqlite in the store
+  friend bool operator==(const SpcMachineConfig&, const SpcMachineConfig&) = default;
+};
+
 struct MachineConfig {
   std::string name = "cutting_table";
   double period_s = 0.001;                 // interpolation period
   std::vector<AxisConfig> axes;            // the configured axes, in axis order
   std::string tool_output = "torch";       // name of the tool (torch/spindle) output
   std::size_t planner_queue = 256;         // timed segments the planner may hold
+  SpcMachineConfig spc;                    // [spc]
 
   // Only enabled axes count as the machine's axes: axis() is nullptr for a disabled one.
   const AxisConfig* axis(std::size_t index) const;

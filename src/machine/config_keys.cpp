@@ -58,6 +58,14 @@ std::optional<std::string> rule_violation(ConfigRule rule, std::size_t v) {
 
 std::optional<std::string> rule_violation(ConfigRule rule, const std::string& v) {
   if (rule == ConfigRule::NonEmpty && v.empty()) return std::string("must not be empty");
+  if (rule == ConfigRule::SpcMode && v != "start-stop" && v != "record-select")
+    return "must be \"start-stop\" or \"record-select\" (got \"" + v + "\")";
+  return std::nullopt;
+}
+
+std::optional<std::string> rule_violation(ConfigRule rule, int v) {
+  if (rule == ConfigRule::SpcProgram && (v < -1 || v > 99))
+    return fmt::format("must be a program number 0..99, or -1 for none (got {})", v);
   return std::nullopt;
 }
 
@@ -69,7 +77,7 @@ std::optional<std::string> key_violation(const ConfigKey<Owner>& key, const Owne
       [&](auto member) -> std::optional<std::string> {
         using T = std::remove_cvref_t<decltype(owner.*member)>;
         if constexpr (std::is_same_v<T, double> || std::is_same_v<T, std::size_t> ||
-                      std::is_same_v<T, std::string>)
+                      std::is_same_v<T, std::string> || std::is_same_v<T, int>)
           return rule_violation(key.rule, owner.*member);
         else
           return std::nullopt;  // bool, HomeSide: every value the type holds is valid
@@ -115,6 +123,8 @@ std::optional<ConfigProblem> find_problem(const MachineConfig& cfg, const std::v
     if (std::none_of(cfg.axes.begin(), cfg.axes.end(), [](const AxisConfig& a) { return a.enabled; }))
       return ConfigProblem{{"axes"}, "axes: at least one axis must be enabled"};
   }
+
+  if (auto p = check_keys(kSpcKeys, cfg.spc, "spc.", only)) return p;
 
   for (const auto& a : cfg.axes) {
     if (!a.enabled) continue;  // a disabled axis takes no part in anything; checked once enabled

@@ -22,6 +22,8 @@ enum class ConfigRule : std::uint8_t {
   Period,        // in [kMinPeriod_s, kMaxPeriod_s]
   Queue,         // integer in [kMinQueue, kMaxQueue]
   NonEmpty,      // a non-empty string
+  SpcProgram,    // an SPC program number 0..99, or -1 for none
+  SpcMode,       // "start-stop" or "record-select"
 };
 
 inline constexpr double kMinPeriod_s = 1e-5;
@@ -32,7 +34,7 @@ inline constexpr std::size_t kMaxQueue = 1u << 20;
 
 template <class Owner>
 using ConfigField = std::variant<double Owner::*, bool Owner::*, std::string Owner::*, std::size_t Owner::*,
-                           HomeSide Owner::*>;
+                           HomeSide Owner::*, int Owner::*>;
 
 template <class Owner>
 struct ConfigKey {
@@ -69,6 +71,24 @@ inline const std::array<ConfigKey<AxisConfig>, 16> kAxisKeys{{
     {"home_backoff_mm", &AxisConfig::home_backoff_mm, ConfigRule::NonNegative},
 }};
 
+// Keys of the [spc] table (spc200.md; docs/spc.md).
+inline const std::array<ConfigKey<SpcMachineConfig>, 14> kSpcKeys{{
+    {"mode", &SpcMachineConfig::mode, ConfigRule::SpcMode},
+    {"task_a", &SpcMachineConfig::task_a, ConfigRule::SpcProgram},
+    {"task_b", &SpcMachineConfig::task_b, ConfigRule::SpcProgram},
+    {"self_test_s", &SpcMachineConfig::self_test_s, ConfigRule::NonNegative},
+    {"input_filter_s", &SpcMachineConfig::input_filter_s, ConfigRule::NonNegative},
+    {"g61_window2_mm", &SpcMachineConfig::g61_window2_mm, ConfigRule::Positive},
+    {"g61_window3_mm", &SpcMachineConfig::g61_window3_mm, ConfigRule::Positive},
+    {"g61_window4_mm", &SpcMachineConfig::g61_window4_mm, ConfigRule::Positive},
+    {"g61_window5_mm", &SpcMachineConfig::g61_window5_mm, ConfigRule::Positive},
+    {"g61_window6_mm", &SpcMachineConfig::g61_window6_mm, ConfigRule::Positive},
+    {"g61_settle_s", &SpcMachineConfig::g61_settle_s, ConfigRule::NonNegative},
+    {"g02_ramp_s", &SpcMachineConfig::g02_ramp_s, ConfigRule::NonNegative},
+    {"g01_s_curve", &SpcMachineConfig::g01_s_curve, ConfigRule::None},
+    {"registers_file", &SpcMachineConfig::registers_file, ConfigRule::None},
+}};
+
 // "axes.x" for axis index 0.
 std::string axis_key(std::size_t index);
 // The TOML spelling of a home side: "negative" / "positive".
@@ -82,6 +102,7 @@ std::string format_number(double v);
 std::optional<std::string> rule_violation(ConfigRule rule, double v);
 std::optional<std::string> rule_violation(ConfigRule rule, std::size_t v);
 std::optional<std::string> rule_violation(ConfigRule rule, const std::string& v);
+std::optional<std::string> rule_violation(ConfigRule rule, int v);
 
 // The first thing wrong with a configuration. `keys` are the dotted keys involved, most specific first,
 // so that a loader can point at the line that set one of them.

@@ -108,10 +108,11 @@ class Setter {
     locations_[key] = loc;
     if (path.empty()) return apply_table_node(path, node, key, loc);
     if (path[0] == "axes") return apply_axes(path, node, key, loc);
+    if (path[0] == "spc") return apply_spc(path, node, key, loc);
     if (path.size() == 1)
       for (const auto& k : kMachineKeys)
         if (k.name == path[0]) return set_field(cfg_, k, node, key, loc);
-    std::vector<std::string_view> names{"axes"};
+    std::vector<std::string_view> names{"axes", "spc"};
     for (const auto& k : kMachineKeys) names.push_back(k.name);
     fail(loc, "unknown key " + key + suggestion(path.back(), names));
   }
@@ -152,6 +153,17 @@ class Setter {
     fail(loc, "unknown key " + key + suggestion(path.back(), names));
   }
 
+  void apply_spc(const std::vector<std::string>& path, const toml::node& node, const std::string& key,
+                 const std::string& loc) {
+    if (path.size() == 1) return apply_table_node(path, node, key, loc);
+    if (path.size() == 2)
+      for (const auto& k : kSpcKeys)
+        if (k.name == path[1]) return set_field(cfg_.spc, k, node, key, loc);
+    std::vector<std::string_view> names;
+    for (const auto& k : kSpcKeys) names.push_back(k.name);
+    fail(loc, "unknown key " + key + suggestion(path.back(), names));
+  }
+
   // An axis not configured yet starts from the AxisConfig defaults (no travel, no speed: they must be given).
   AxisConfig& ensure_axis(std::size_t index) {
     auto it = std::find_if(cfg_.axes.begin(), cfg_.axes.end(), [&](const AxisConfig& a) { return a.index >= index; });
@@ -188,6 +200,11 @@ class Setter {
             if (!i) fail(loc, key + " must be an integer (got " + describe(node) + ")");
             if (*i < 0) fail(loc, key + " must be >= 0 (got " + std::to_string(*i) + ")");
             field = static_cast<std::size_t>(*i);
+          } else if constexpr (std::is_same_v<T, int>) {
+            auto i = node.value_exact<std::int64_t>();
+            if (!i) fail(loc, key + " must be an integer (got " + describe(node) + ")");
+            if (*i < -1000000 || *i > 1000000) fail(loc, key + " is out of range (got " + std::to_string(*i) + ")");
+            field = static_cast<int>(*i);
           } else if constexpr (std::is_same_v<T, HomeSide>) {
             if (auto s = node.value_exact<std::string>())
               if (auto side = home_side_from(*s)) return void(field = *side);
@@ -248,7 +265,7 @@ void write_keys(std::string& out, const std::array<ConfigKey<Owner>, N>& keys, c
           if constexpr (std::is_same_v<T, double>) out += toml_float(v);
           else if constexpr (std::is_same_v<T, bool>) out += v ? "true" : "false";
           else if constexpr (std::is_same_v<T, std::string>) out += quoted(v);
-          else if constexpr (std::is_same_v<T, std::size_t>) out += std::to_string(v);
+          else if constexpr (std::is_same_v<T, std::size_t> || std::is_same_v<T, int>) out += std::to_string(v);
           else if constexpr (std::is_same_v<T, HomeSide>) out += quoted(home_side_name(v));
         },
         k.field);
@@ -330,6 +347,8 @@ std::string to_toml(const MachineConfig& cfg) {
     out += "\n[" + axis_key(a.index) + "]\n";
     write_keys(out, kAxisKeys, a);
   }
+  out += "\n[spc]\n";
+  write_keys(out, kSpcKeys, cfg.spc);
   return out;
 }
 

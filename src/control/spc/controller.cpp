@@ -16,6 +16,16 @@ bool bit(const std::array<std::uint16_t, kIoModules>& w, IoAddress a) { return (
 
 const char* to_string(SpcMode m) { return m == SpcMode::StartStop ? "StartStop" : "RecordSelect"; }
 
+ControllerConfig controller_config_from(const machine::SpcMachineConfig& spc) {
+  ControllerConfig c;
+  c.mode = spc.mode == "record-select" ? SpcMode::RecordSelect : SpcMode::StartStop;
+  c.program_a = spc.task_a;
+  c.program_b = spc.task_b;
+  c.self_test_s = spc.self_test_s;
+  c.input_filter_s = spc.input_filter_s;
+  return c;
+}
+
 Controller::Controller(const ControllerConfig& cfg, const program::spc::ProgramStore& store, Registers& regs,
                        TaskAxes& axes)
     : cfg_(cfg), axes_(axes), task_a_(TaskId::A, store, regs, axes), task_b_(TaskId::B, store, regs, axes) {
@@ -54,8 +64,13 @@ void Controller::raise_fault(const char* message) {
   fault_this_cycle_ = true;
 }
 
-void Controller::latch_error(const char* message) {
-  if (!error_) message_ = message;
+void Controller::latch_error(const char* message, int task, int program, int line) {
+  if (!error_) {
+    message_ = message;
+    error_task_ = task;
+    error_program_ = program;
+    error_line_ = line;
+  }
   error_ = true;
 }
 
@@ -64,6 +79,7 @@ void Controller::clear_errors() {
   if (!fault_this_cycle_) {
     error_ = false;
     message_ = "";
+    error_task_ = error_program_ = error_line_ = -1;
   }
   new_fault_ = false;
   // A task cannot go on past an instruction that failed: clearing its error puts its pointer back.
@@ -79,7 +95,7 @@ void Controller::collect_task_errors() {
     const auto st = task_at(i).status();
     auto& prev = task_error_prev_[static_cast<std::size_t>(i)];
     if (st.error && !prev) {
-      latch_error(st.message);
+      latch_error(st.message, i, st.program, st.line);
       new_fault_ = true;
     }
     prev = st.error;
@@ -203,13 +219,15 @@ void Controller::record_task_event(int i, RecordTaskEvent e) {
         ++records_executed_[k];
         last_record_line_[k] = line;
       } else {
-        latch_error(task_at(i).refusal());  // names the reason (a relative line after a stop, ...)
+        // Names the reason (a relative line after a stop, ...) and the line ordered.
+        latch_error(task_at(i).refusal(), i, task_at(i).program_number(), line);
         record_system_event(RecordSystemEvent::Error);
       }
       break;
     }
     case RecordTaskAction::Refuse:
-      latch_error("order refused: CLK rose while the task or the controller could not accept it");
+      latch_error("order refused: CLK rose while the task or the controller could not accept it", i,
+                  task_at(i).program_number(), image_.line_bits());
       record_system_event(RecordSystemEvent::Error);
       break;
   }
@@ -301,6 +319,9 @@ ControllerStatus Controller::status() const {
   s.error = error_;
   s.fatal = ss_ == StartStopState::Fatal || rs_ == RecordSystemState::Fatal;
   s.message = message_;
+  s.error_task = error_task_;
+  s.error_program = error_program_;
+  s.error_line = error_line_;
   s.records_executed = records_executed_;
   s.last_record_line = last_record_line_;
   return s;

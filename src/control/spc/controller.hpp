@@ -26,6 +26,9 @@ struct ControllerConfig {
   bool self_test_fails = false;  // simulation: the self-test finds a fault (not clearable)
 };
 
+// The [spc] table of a machine configuration as controller settings (mode, start programs, times).
+ControllerConfig controller_config_from(const machine::SpcMachineConfig& spc);
+
 struct ControllerStatus {
   SpcMode mode = SpcMode::StartStop;
   StartStopState start_stop = StartStopState::SelfTest;
@@ -36,6 +39,11 @@ struct ControllerStatus {
   bool error = false;          // an error is latched (READY=0 until acknowledged)
   bool fatal = false;          // not clearable: power off and on
   const char* message = "";
+  // Where the latched error comes from: the task (0 = A, 1 = B; -1 = from outside, e.g. a drive fault),
+  // its program and N line (a task's error, or the line of a refused order); -1 when unknown.
+  int error_task = -1;
+  int error_program = -1;
+  int error_line = -1;
   std::array<std::uint64_t, 2> records_executed{};  // S-9 orders the tasks accepted (execute_record true)
   std::array<int, 2> last_record_line{-1, -1};
 };
@@ -79,7 +87,7 @@ class Controller {
   bool assigned(int i) const { return (i == 0 ? cfg_.program_a : cfg_.program_b) >= 0; }
 
   bool self_test(double dt_s);  // true when the self-test time has elapsed this cycle
-  void latch_error(const char* message);
+  void latch_error(const char* message, int task = -1, int program = -1, int line = -1);
   void clear_errors();
   void collect_task_errors();
 
@@ -112,6 +120,7 @@ class Controller {
   bool error_ = false, new_fault_ = false;
   bool fault_this_cycle_ = false;  // raise_fault since the last update: a reset cannot clear it
   const char* message_ = "";
+  int error_task_ = -1, error_program_ = -1, error_line_ = -1;
   std::array<bool, kTasks> task_error_prev_{};
   std::array<bool, kTasks> halted_in_motion_{};  // S-8: a stopped motion is not a finished one (MC stays 0)
   std::array<std::uint64_t, kTasks> records_executed_{};

@@ -1,6 +1,7 @@
 // The shared SPC axes: command checks, stepping, G61 windows.
 #include "control/spc/task_axes.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace softmc::control::spc {
@@ -11,8 +12,13 @@ SpcAxesConfig spc_axes_from(const machine::MachineConfig& m) {
   for (std::size_t i = 0; i < kSpcAxes; ++i) {
     const auto* a = m.axis(core_axis(i));
     if (!a) continue;
-    c.axis[i] = {true, a->max_vel_mm_s, a->max_acc_mm_s2, a->min_mm, a->max_mm};
+    c.axis[i] = {true, a->max_vel_mm_s, a->max_acc_mm_s2, a->min_mm, a->max_mm, a->max_jerk_mm_s3};
   }
+  const auto& s = m.spc;
+  c.windows_mm = {s.g61_window2_mm, s.g61_window3_mm, s.g61_window4_mm, s.g61_window5_mm, s.g61_window6_mm};
+  c.settle_s = s.g61_settle_s;
+  c.sine_squared_s = s.g02_ramp_s;
+  c.s_curve = s.g01_s_curve;
   return c;
 }
 
@@ -29,7 +35,7 @@ const char* to_string(AxisCmd r) {
 
 TaskAxes::TaskAxes(const SpcAxesConfig& cfg, std::array<double, kSpcAxes> start_mm) : cfg_(cfg) {
   for (std::size_t i = 0; i < kSpcAxes; ++i) {
-    movers_[i].configure(cfg.period_s, cfg.sine_squared_s, start_mm[i]);
+    movers_[i].configure(cfg.period_s, start_mm[i]);
     out_.setpoint_mm[i] = actual_[i] = start_mm[i];
   }
 }
@@ -47,7 +53,18 @@ void TaskAxes::command(int task, int axis, double target_mm, double v_mm_s, doub
                        program::SpcProfile profile, bool relative) {
   owner_[axis] = task;
   if (!relative) needs_absolute_[axis] = false;
-  movers_[axis].retarget(target_mm, v_mm_s, a_mm_s2, d_mm_s2, profile == program::SpcProfile::SineSquared);
+  const auto& ac = cfg_.axis[axis];
+  MoverLimits lim{v_mm_s, a_mm_s2, d_mm_s2, ac.j_max_mm_s3};
+  MoverProfile kind = cfg_.s_curve ? MoverProfile::SCurve : MoverProfile::Trapezoid;
+  if (profile == program::SpcProfile::SineSquared) {
+    kind = MoverProfile::SineSquared;
+    // G02 smoothing: a ramp of at least sine_squared_s caps the jerk at a·π/T (and the axis's own limit).
+    const double a = std::min(a_mm_s2, d_mm_s2);
+    const double j_smooth = cfg_.sine_squared_s > 0 ? a * M_PI / cfg_.sine_squared_s : 0.0;
+    if (j_smooth > 0 && (lim.j_mm_s3 <= 0 || j_smooth < lim.j_mm_s3)) lim.j_mm_s3 = j_smooth;
+    if (lim.j_mm_s3 <= 0) lim.j_mm_s3 = a * M_PI / 0.01;  // a takeover needs some jerk limit for Otg1
+  }
+  movers_[axis].retarget(target_mm, lim, kind);
   settled_s_[axis] = {};
 }
 

@@ -19,6 +19,7 @@ struct SpcAxisConfig {
   double v_max_mm_s = 0;
   double a_max_mm_s2 = 0;
   double min_mm = -1e9, max_mm = 1e9;  // travel
+  double j_max_mm_s3 = 0;              // jerk limit of S-curves and G02 (0 = none)
 };
 
 struct SpcAxesConfig {
@@ -28,7 +29,8 @@ struct SpcAxesConfig {
   // for settle_s.
   std::array<double, 5> windows_mm{1.0, 0.5, 0.2, 0.1, 0.05};
   double settle_s = 0.05;
-  double sine_squared_s = 0.1;  // G02 kernel length
+  double sine_squared_s = 0.1;  // G02 smoothing: shortest sin² ramp, i.e. G02 jerk ≤ a·π/sine_squared_s
+  bool s_curve = false;         // G00/G01 jerk-limited (Otg1 at j_max_mm_s3) instead of trapezoids
 };
 
 // SPC axis i → core axis index: X Y Z U.
@@ -36,7 +38,8 @@ constexpr std::size_t core_axis(std::size_t spc_axis) {
   constexpr std::array<std::size_t, kSpcAxes> k{0, 1, 2, 6};
   return k[spc_axis];
 }
-// The SPC axes of a machine configuration (those of X, Y, Z, U that are enabled).
+// The SPC axes of a machine configuration (those of X, Y, Z, U that are enabled) and its [spc] G61
+// windows, settling time and smoothing.
 SpcAxesConfig spc_axes_from(const machine::MachineConfig& m);
 
 enum class AxisCmd : std::uint8_t { Ok, NotPresent, OwnedByOtherTask, NeedsAbsolute, OutOfTravel };
