@@ -26,6 +26,7 @@ bool Channel::start(const core::Vec& from) {
   if (!prog_ || state_ == ChannelState::Running || state_ == ChannelState::Fault) return false;
   pc_ = 0;
   plan_pos_ = from;
+  path_tolerance_mm_ = -1;
   dwell_left_s_ = 0;
   state_ = ChannelState::Running;
   return true;
@@ -57,6 +58,13 @@ void Channel::update(double dt_s) {
   const auto& ins = prog_->instructions;
   for (int budget = kMaxInstructionsPerCycle; budget > 0 && pc_ < ins.size(); --budget) {
     const program::Op& op = ins[pc_].op;
+    if (const auto* pm = std::get_if<program::PathMode>(&op)) {
+      // G61/G61.1: exact stop at every corner; G64 P (G23): blend within P, G64 alone: the default P.
+      // A mode change needs no stop: it applies to the corners the following moves start with.
+      path_tolerance_mm_ = pm->kind == program::PathKind::Blend ? (pm->tolerance_mm > 0 ? pm->tolerance_mm : -1.0) : 0.0;
+      ++pc_;
+      continue;
+    }
     if (auto seg = to_segment(op, plan_pos_)) {
       if (planner_.queue().full()) return;  // wait for room
       motion::PathRequest req;
@@ -65,6 +73,7 @@ void Channel::update(double dt_s) {
       if (const auto* l = std::get_if<program::Linear>(&op)) req.feed_mm_s = l->feed_mm_s;
       if (const auto* a = std::get_if<program::Arc>(&op)) req.feed_mm_s = a->feed_mm_s;
       req.tag = pc_;
+      req.tolerance_mm = path_tolerance_mm_;
       const auto r = planner_.push(req);
       if (r != motion::PlanResult::Ok) return fail(motion::to_string(r), r);
       plan_pos_ = seg->end;

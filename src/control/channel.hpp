@@ -47,6 +47,7 @@ class Channel {
   ChannelState state_ = ChannelState::Idle;
   std::uint32_t pc_ = 0;
   core::Vec plan_pos_;  // where the last planned motion ends
+  double path_tolerance_mm_ = -1;  // G61/G64 P: PathRequest::tolerance_mm (< 0: the planner's default)
   double dwell_left_s_ = 0;
   bool tool_on_ = false;
   int last_m_ = -1;

@@ -259,7 +259,7 @@ void stroke_programmed(cairo_t* cr, const Scene& s, const PlotFrame& f) {
     if (m.kind == MoveKind::Rapid) continue;
     const auto& seg = m.segment;
     int n = 1;
-    if (seg.kind == motion::SegmentKind::Arc)
+    if (seg.kind != motion::SegmentKind::Line)  // arcs and curves (Bézier, NURBS) are sampled finely
       n = std::clamp(static_cast<int>(std::ceil(seg.length / (2 * mm_per_px))), 8, 20000);
     for (int k = 0; k <= n; ++k) {
       const core::Vec p = seg.point(seg.length * k / n);

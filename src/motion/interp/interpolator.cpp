@@ -62,6 +62,8 @@ void Interpolator::rest_at_end() {
   started_ = false;
   t_ = 0;
   v_ = 0;
+  a_ = 0;
+  s_ = 0;
 }
 
 // rt-safe
@@ -77,6 +79,7 @@ const Setpoint& Interpolator::step(double dt) {
     rest_at_end();
     return sp_;
   }
+  if (std::isfinite(ring.front().j_mm_s3) && !started_) return step_jerk(dt);
   if (started_) {
     const Inputs in = inputs(ring.front());
     if (!(in == in_)) replan(ring.front(), in);
@@ -112,6 +115,11 @@ const Setpoint& Interpolator::step(double dt) {
     sp_.tag = b.tag;
     ring.pop();
     started_ = false;
+    if (!ring.empty() && std::isfinite(ring.front().j_mm_s3)) {
+      s_ = 0;
+      a_ = 0;
+      return step_jerk(left);
+    }
     if (ring.empty()) {  // the tail ends at rest: exactly on the last programmed point
       if (stop_ != StopKind::None) {
         queue_.clear();

@@ -12,6 +12,7 @@
 #include <cstdint>
 
 #include "motion/interp/velocity_ramp.hpp"
+#include "motion/limits.hpp"
 #include "motion/planner/plan_queue.hpp"
 
 namespace softmc::motion {
@@ -33,7 +34,13 @@ struct InterpolatorConfig {
   double max_feed_override = 2.0;      // P-8: the override is clamped to [0, this]
   double emergency_accel_scale = 1.0;  // P-5: emergency ramp relative to the normal one
   int max_blocks_per_cycle = 512;      // bounds one cycle's work; 512 blocks per ms = 512k blocks/s
+  // Jerk mode (the S-curve path profile) looks at most this many blocks ahead per cycle; the end of
+  // that horizon is treated as a point to stop at, so it is always safe (only slower when too short).
+  int max_horizon_blocks = 8192;
 };
+
+// True when any present axis has a jerk limit (blocks then carry a finite j_mm_s3: the jerk follower runs).
+bool jerk_mode(const MachineLimits& lim);
 
 class Interpolator {
  public:
@@ -77,6 +84,8 @@ class Interpolator {
   Inputs inputs(const Block& b) const;
   void replan(const Block& b, const Inputs& in);
   void rest_at_end();
+  const Setpoint& step_jerk(double dt);
+  double hard_limit(const Block& b) const;
 
   PlanQueue& queue_;
   InterpolatorConfig config_;
@@ -85,6 +94,8 @@ class Interpolator {
   VelocityRamp ramp_;
   double t_ = 0;          // time since ramp_ began
   double v_ = 0;          // path speed carried across block boundaries
+  double a_ = 0;          // jerk mode: path acceleration
+  double s_ = 0;          // jerk mode: distance into the front block
   Inputs in_;
   double override_ = 1;
   bool hold_ = false, enable_ = true, stopped_ = false;

@@ -40,8 +40,10 @@ struct Block {
 
   double length = 0;          // mm
   double a_mm_s2 = 0;         // path acceleration every axis allows along the whole block
+  double j_mm_s3 = 0;         // path jerk every axis allows (infinite: no jerk limit, trapezoid)
   double v_cap_mm_s = 0;      // path speed every axis allows (hard: never exceeded, whatever the override)
   double feed_mm_s = 0;       // programmed feed (infinite for rapids): the override scales it
+  double v2_kink = 0;         // (mm/s)²: speed a non-tangent, unblended corner at its start allows
   double v2_junction = 0;     // (mm/s)²: entry speed the junction with the previous block allows
   double v2_entry_max = 0;    // (mm/s)²: backward pass — entry speed from which every later limit,
                               // and the stop at the end of what is planned, can still be met

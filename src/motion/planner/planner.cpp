@@ -24,10 +24,31 @@ const char* to_string(PlanResult r) {
   return "?";
 }
 
+namespace {
+
+// Jerk on a curved piece (docs/planner.md, "Jerk"): an axis with tangent share t_i and curvature
+// share n_i sees  j_i = (j_t − v³κ²)·t_i + 3·v·a_t·κ·n_i  (+ v³·dκ/ds·n_i, zero on circles). The
+// budget is split conservatively: j_t gets half, v³κ² a quarter, 3·v·a_t·κ a quarter of j_max_i.
+// `amp_t` bounds |t_i|, `amp_n` bounds the axis's share of the curvature vector.
+void curve_jerk(SegmentLimits& l, double j_axis, double amp_t, double amp_n, double kappa) {
+  if (!(j_axis > 0)) return;
+  if (amp_t > 1e-12) l.j_max_mm_s3 = std::min(l.j_max_mm_s3, 0.5 * j_axis / amp_t);
+  if (kappa > 0 && amp_n > 1e-12) l.v_max_mm_s = std::min(l.v_max_mm_s, std::cbrt(0.25 * j_axis / (kappa * kappa * amp_n)));
+}
+// The 3·v·a_t·κ term, once the speed cap is known.
+void curve_jerk_acc(SegmentLimits& l, double j_axis, double amp_n, double kappa) {
+  if (!(j_axis > 0) || !(kappa > 0) || amp_n < 1e-12 || !std::isfinite(l.v_max_mm_s)) return;
+  l.a_max_mm_s2 = std::min(l.a_max_mm_s2, 0.25 * j_axis / (3 * l.v_max_mm_s * kappa * amp_n));
+}
+
+}  // namespace
+
 // rt-safe
 SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double cn) {
   const double ct = std::sqrt(std::max(0.0, 1 - cn * cn));
-  double v = kInf, a = kInf;
+  SegmentLimits l{kInf, kInf, kInf};
+  double& v = l.v_max_mm_s;
+  double& a = l.a_max_mm_s2;
   if (g.kind == SegmentKind::Line) {
     // Each axis moves at v·|dir_i|: the path speed is limited by v_max_i / |dir_i|, likewise acceleration.
     for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
@@ -35,8 +56,9 @@ SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double 
       if (d < 1e-12) continue;
       v = std::min(v, lim.axis[i].v_max_mm_s / d);
       a = std::min(a, lim.axis[i].a_max_mm_s2 / d);
+      if (lim.axis[i].j_max_mm_s3 > 0) l.j_max_mm_s3 = std::min(l.j_max_mm_s3, lim.axis[i].j_max_mm_s3 / d);
     }
-  } else {
+  } else if (g.kind == SegmentKind::Arc) {
     // Arc: the tangent turns through every direction of the plane, so an in-plane axis may carry the
     // whole in-plane speed. An in-plane axis sees a_t·t_i + κv²·n_i; with a_t·inplane ≤ ct·a and
     // κv² ≤ cn·a its magnitude stays ≤ √(ct² + cn²)·a = a.
@@ -47,15 +69,36 @@ SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double 
       v = std::min(v, lim.axis[i].v_max_mm_s / inplane);
       a = std::min(a, ct * lim.axis[i].a_max_mm_s2 / inplane);
       if (kappa > 0) v = std::min(v, std::sqrt(cn * lim.axis[i].a_max_mm_s2 / kappa));
+      curve_jerk(l, lim.axis[i].j_max_mm_s3, inplane, 1.0, kappa);
     }
     for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
       const double d = std::abs(g.linear[i]);
       if (d < 1e-12) continue;
       v = std::min(v, lim.axis[i].v_max_mm_s / d);
       a = std::min(a, lim.axis[i].a_max_mm_s2 / d);
+      if (lim.axis[i].j_max_mm_s3 > 0) l.j_max_mm_s3 = std::min(l.j_max_mm_s3, lim.axis[i].j_max_mm_s3 / d);
     }
+    if (inplane >= 1e-12)
+      for (std::size_t i : {std::size_t{g.axis0}, std::size_t{g.axis1}}) curve_jerk_acc(l, lim.axis[i].j_max_mm_s3, 1.0, kappa);
+  } else {
+    // Poly (Bézier, NURBS, splines): per-axis largest tangent share and the largest curvature, both
+    // sampled at construction. The tangent and normal of a general curve are not one phase apart as
+    // on a circle, so the shares add: a_t·t_i ≤ (1 − cn)·a and κv² ≤ cn·a.
+    const Vec tmax = g.max_abs_tangent();
+    const double kappa = g.max_curvature();
+    for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
+      const double d = tmax[i];
+      if (d < 1e-12) continue;
+      const auto& ax = lim.axis[i];
+      v = std::min(v, ax.v_max_mm_s / d);
+      a = std::min(a, (1 - cn) * ax.a_max_mm_s2 / d);
+      if (kappa > 0) v = std::min(v, std::sqrt(cn * ax.a_max_mm_s2 / kappa));
+      curve_jerk(l, ax.j_max_mm_s3, d, 1.0, kappa);
+    }
+    for (std::size_t i = 0; i < core::kMaxAxes; ++i)
+      if (tmax[i] >= 1e-12) curve_jerk_acc(l, lim.axis[i].j_max_mm_s3, 1.0, kappa);
   }
-  return {v, a};
+  return l;
 }
 
 // rt-safe
@@ -63,14 +106,20 @@ SegmentLimits blend_limits(const BlendArc& b, const MachineLimits& lim, double c
   // On p(φ) = c + R(cos φ·u + sin φ·w) axis i's tangent and normal components are amp_i·(sin, cos)
   // of one phase, amp_i = √(u_i² + w_i²): the arc bound above with `inplane` replaced by amp_i.
   const double ct = std::sqrt(std::max(0.0, 1 - cn * cn));
-  double v = kInf, a = kInf;
+  SegmentLimits l{kInf, kInf, kInf};
+  const double kappa = 1 / b.radius;
   for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
     const double amp = std::hypot(b.u[i], b.w[i]);
     if (amp < 1e-12) continue;
-    v = std::min({v, lim.axis[i].v_max_mm_s / amp, std::sqrt(cn * lim.axis[i].a_max_mm_s2 * b.radius / amp)});
-    a = std::min(a, ct * lim.axis[i].a_max_mm_s2 / amp);
+    l.v_max_mm_s = std::min({l.v_max_mm_s, lim.axis[i].v_max_mm_s / amp, std::sqrt(cn * lim.axis[i].a_max_mm_s2 * b.radius / amp)});
+    l.a_max_mm_s2 = std::min(l.a_max_mm_s2, ct * lim.axis[i].a_max_mm_s2 / amp);
+    curve_jerk(l, lim.axis[i].j_max_mm_s3, amp, amp, kappa);
   }
-  return {v, a};
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
+    const double amp = std::hypot(b.u[i], b.w[i]);
+    if (amp >= 1e-12) curve_jerk_acc(l, lim.axis[i].j_max_mm_s3, amp, kappa);
+  }
+  return l;
 }
 
 Planner::Planner(const MachineLimits& limits, std::size_t queue_capacity, const PlannerConfig& config)
@@ -111,6 +160,7 @@ PlanResult Planner::push(const PathRequest& req) {
   b.length = req.geom.length;
   b.a_mm_s2 = sl.a_max_mm_s2;
   b.v_cap_mm_s = sl.v_max_mm_s;
+  b.j_mm_s3 = req.profile == ProfileKind::Trapezoid ? kInf : sl.j_max_mm_s3;
   b.feed_mm_s = req.rapid ? kInf : req.feed_mm_s;
   const double full_length = b.length;
 
@@ -147,6 +197,7 @@ PlanResult Planner::push(const PathRequest& req) {
           const auto bl = blend_limits(blend.blend, limits_, config_.centripetal_share);
           blend.a_mm_s2 = bl.a_max_mm_s2;
           blend.v_cap_mm_s = bl.v_max_mm_s;
+          blend.j_mm_s3 = std::isinf(a.j_mm_s3) && std::isinf(b.j_mm_s3) ? kInf : bl.j_max_mm_s3;
           blend.rapid = a.rapid && b.rapid;
           blend.feed_mm_s = std::min(a.feed_mm_s, b.feed_mm_s);
           blend.tag = a.tag;
@@ -160,6 +211,7 @@ PlanResult Planner::push(const PathRequest& req) {
         }
       }
     }
+    if (!blended && tol > 0) kink(a, b);
     if (a.length > kMinLength_mm) commit(a);
     if (blended) commit(blend);
   }
@@ -167,6 +219,34 @@ PlanResult Planner::push(const PathRequest& req) {
   queue_.pending_full_length_ = full_length;
   queue_.has_pending_ = true;
   return PlanResult::Ok;
+}
+
+// rt-safe. A corner that is not blended (one side an arc or a curve, or lines under G64 with P too
+// small) is crossed at speed when that speed turns every axis within one cycle's share of its
+// acceleration (and jerk): v·|t_out,i − t_in,i| ≤ share·a_i·dt, the discrete form of grbl's junction
+// deviation. The setpoints stay on the programmed path (deviation 0). Both neighbours give up that
+// share of their acceleration and jerk, so the kink's one-cycle impulse never adds up past a limit.
+void Planner::kink(Block& a, Block& b) const {
+  const Vec dt_vec = b.tangent(0) - a.tangent(a.length);
+  const double turn = core::norm(dt_vec);
+  if (turn <= config_.tangent_rad || !(config_.kink_share > 0)) return;
+  const double dt = limits_.period_s;
+  double v = kInf;
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
+    const double d = std::abs(dt_vec[i]);
+    if (d < 1e-15 || !limits_.present(i)) continue;
+    double room = limits_.axis[i].a_max_mm_s2 * dt;
+    const bool jerk = limits_.axis[i].j_max_mm_s3 > 0 && !(std::isinf(a.j_mm_s3) && std::isinf(b.j_mm_s3));
+    if (jerk) room = std::min(room, limits_.axis[i].j_max_mm_s3 * dt * dt);
+    v = std::min(v, config_.kink_share * room / d);
+  }
+  if (!(v >= config_.min_kink_speed_mm_s)) return;  // too slow to be worth the lost acceleration: stop
+  const double keep = 1 - config_.kink_share;
+  a.a_mm_s2 *= keep;
+  a.j_mm_s3 *= keep;
+  b.a_mm_s2 *= keep;
+  b.j_mm_s3 *= keep;
+  b.v2_kink = v * v;
 }
 
 // rt-safe
@@ -190,7 +270,17 @@ void Planner::commit(const Block& b) {
     // |t_out − t_in| is the turning angle (chord of unit vectors), without acos's loss near 0.
     const double turn = core::norm(prev.tangent(prev.length) - nb.tangent(0));
     const double cap = std::min(plan_cap_mm_s(prev), plan_cap_mm_s(nb));
-    nb.v2_junction = turn <= config_.tangent_rad ? cap * cap : 0.0;
+    nb.v2_junction = turn <= config_.tangent_rad ? cap * cap : std::min(cap * cap, nb.v2_kink);
+    // With jerk limits, a jump of the curvature vector (line into arc or blend) steps each axis's
+    // acceleration by v²·Δκ_i within one cycle: keep that step within j_i·dt.
+    if (!std::isinf(nb.j_mm_s3) || !std::isinf(prev.j_mm_s3)) {
+      const Vec dk = nb.curvature(0) - prev.curvature(prev.length);
+      for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
+        const double d = std::abs(dk[i]);
+        if (d < 1e-12 || !(limits_.axis[i].j_max_mm_s3 > 0)) continue;
+        nb.v2_junction = std::min(nb.v2_junction, limits_.axis[i].j_max_mm_s3 * limits_.period_s / d);
+      }
+    }
   }
   queue_.unsettled_ = std::min(queue_.unsettled_ + 1, ring.size());
 }

@@ -18,6 +18,7 @@
 #include "motion/limits.hpp"
 #include "motion/planner/block.hpp"
 #include "motion/planner/plan_queue.hpp"
+#include "motion/profile/profile.hpp"
 
 namespace softmc::motion {
 
@@ -28,6 +29,9 @@ struct PathRequest {
   std::uint32_t tag = 0;        // the instruction index it came from, carried to the setpoints
   double tolerance_mm = -1;     // blend tolerance P at the corner this move starts with:
                                 // < 0 = the configured default (G64 without P), 0 = exact stop (G61)
+  // Speed profile of this move: Scurve (default) keeps the axes' jerk limits; Trapezoid ignores them
+  // (acceleration may jump); Sine2 is executed as Scurve on paths (its smooth jerk is a 1-D feature).
+  ProfileKind profile = ProfileKind::Scurve;
 };
 
 struct PlannerConfig {
@@ -37,6 +41,10 @@ struct PlannerConfig {
   // Split of an axis's acceleration on curved pieces: centripetal share cn, tangential share ct,
   // cn² + ct² = 1 so that |a_t·t_i + a_n·n_i| ≤ a_max_i at every point of a circle.
   double centripetal_share = 0.8;
+  // Corners that are not blended but nearly tangent (arcs in rounded G-code) are crossed at speed
+  // within this share of each axis's acceleration/jerk per cycle; the neighbours keep the rest.
+  double kink_share = 0.25;
+  double min_kink_speed_mm_s = 1.0;  // below this the corner is an exact stop instead
 };
 
 enum class PlanResult : std::uint8_t { Ok, QueueFull, BadFeed, OutsideTravel, Infeasible };
@@ -46,6 +54,7 @@ const char* to_string(PlanResult r);
 struct SegmentLimits {
   double v_max_mm_s = 0;
   double a_max_mm_s2 = 0;
+  double j_max_mm_s3 = 0;  // path jerk; infinite when no axis of the segment has a jerk limit
 };
 SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double centripetal_share = 0.8);
 SegmentLimits blend_limits(const BlendArc& b, const MachineLimits& lim, double centripetal_share = 0.8);
@@ -70,6 +79,7 @@ class Planner {
 
  private:
   void commit(const Block& b);
+  void kink(Block& a, Block& b) const;
 
   MachineLimits limits_;
   PlannerConfig config_;

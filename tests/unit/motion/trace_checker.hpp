@@ -17,7 +17,7 @@ namespace softmc::motion::testing {
 struct TraceFigures {
   double v_ratio = 0, a_ratio = 0, j_ratio = 0;  // largest |d^k pos_i / dt^k| / limit_i over axes
   std::size_t v_axis = 0, a_axis = 0, j_axis = 0;
-  std::size_t a_sample = 0;
+  std::size_t a_sample = 0, j_sample = 0;
   double deviation_mm = 0;  // largest distance of a setpoint from the programmed path
   std::size_t samples = 0;
   std::size_t dev_sample = 0;
@@ -28,7 +28,7 @@ struct TraceFigures {
     std::ostringstream o;
     o.precision(12);
     o << "v " << v_ratio << " (axis " << v_axis << "), a " << a_ratio << " (axis " << a_axis << ", sample "
-      << a_sample << "), j " << j_ratio << " (axis " << j_axis << "), deviation " << deviation_mm << " mm (sample " << dev_sample << ", tag " << dev_tag << ") over "
+      << a_sample << "), j " << j_ratio << " (axis " << j_axis << ", sample " << j_sample << "), deviation " << deviation_mm << " mm (sample " << dev_sample << ", tag " << dev_tag << ") over "
       << samples << " samples";
     return o.str();
   }
@@ -59,7 +59,9 @@ class TraceChecker {
       }
       if (n_ >= 4 && L.j_max_mm_s3 > 0) {
         const double j = hist_[3][i] - 3 * hist_[2][i] + 3 * hist_[1][i] - hist_[0][i];
-        take(f_.j_ratio, f_.j_axis, std::abs(j) / (dt_ * dt_ * dt_) / L.j_max_mm_s3, i);
+        const double jr = std::abs(j) / (dt_ * dt_ * dt_) / L.j_max_mm_s3;
+        if (jr > f_.j_ratio) f_.j_sample = n_;
+        take(f_.j_ratio, f_.j_axis, jr, i);
       }
     }
     if (!path_.empty()) {
