@@ -1,26 +1,13 @@
 // The cycle is sacred: stepping a running simulation allocates nothing (DESIGN.md).
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
-
+#include "alloc_counter.hpp"
+#include "control/spc/registers.hpp"
 #include "machine/config.hpp"
 #include "program/iso/parser.hpp"
+#include "program/spc/store.hpp"
 #include "simulation.hpp"
-
-namespace {
-std::atomic<long> g_allocs{0};
-}  // namespace
-
-// Counts every allocation made in this test executable.
-void* operator new(std::size_t n) {
-  g_allocs.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+#include "spc_simulation.hpp"
 
 using namespace softmc;
 
@@ -29,14 +16,37 @@ TEST(Cycle, StepsAllocateNothing) {
   auto parsed = program::iso::parse_file(std::string(SOFTMC_SOURCE_DIR) + "/examples/thesis/rounded_rectangle.ngc");
   ASSERT_TRUE(parsed.program);
   app::Simulation sim(*parsed.program, cfg);
-  const long before = g_allocs.load();
+  const long before = softmc::testing::allocation_count();
   std::uint64_t cycles = 0;
   while (!sim.finished() && !sim.faulted() && cycles < 10'000'000) {
     sim.step();
     ++cycles;
   }
-  const long during = g_allocs.load() - before;
+  const long during = softmc::testing::allocation_count() - before;
   ASSERT_TRUE(sim.finished());
   EXPECT_GT(cycles, 1000u);
   EXPECT_EQ(during, 0) << "allocations inside " << cycles << " cycles";
+}
+
+TEST(Cycle, SpcRecordSelectWithPlcStepsAllocateNothing) {
+  // Both tasks in Record Select, driven by the reference PLC (S-10) through the whole composition root.
+  auto cfg = machine::load_machine(std::string(SOFTMC_SOURCE_DIR) + "/examples/machines/spc_positioning.toml");
+  cfg.spc.self_test_s = 0.2;
+  program::spc::ProgramStore store;
+  ASSERT_TRUE(store.load_folder(std::string(SOFTMC_SOURCE_DIR) + "/examples/spc/two_axes_independent", {true, -1}).empty());
+  app::SpcRunConfig rc;
+  rc.controller = control::spc::controller_config_from(cfg.spc);
+  rc.controller.mode = control::spc::SpcMode::RecordSelect;
+  rc.controller.program_a = 1;
+  rc.controller.program_b = 10;
+  auto script = control::spc::parse_plc_script("0.3 A 31\n0.3 B 31\n1.5 A 0\n1.5 B 0\n", "orders.plc");
+  ASSERT_TRUE(script.script);
+  rc.plc = *script.script;
+  control::spc::Registers regs;
+  app::SpcSimulation sim(store, cfg, rc, regs);
+  for (int i = 0; i < 100; ++i) sim.step();  // settle any first-use work before counting
+  const long before = softmc::testing::allocation_count();
+  for (int i = 0; i < 4000; ++i) sim.step();
+  EXPECT_EQ(softmc::testing::allocation_count() - before, 0);
+  ASSERT_NE(sim.plc(), nullptr);
 }

@@ -1,26 +1,13 @@
 // The cycle is sacred: the SPC controller (both modes, both tasks, the PLC client) allocates nothing per cycle.
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
+#include "alloc_counter.hpp"
+
 #include <string>
 
 #include "control/spc/plc_client.hpp"
 #include "spc_modes_rig.hpp"
 
-namespace {
-std::atomic<long> g_allocs{0};
-}  // namespace
-
-// Counts every allocation made in this test executable (the only operator new replacement in test_control).
-void* operator new(std::size_t n) {
-  g_allocs.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace softmc::control::spc {
 namespace {
@@ -48,7 +35,7 @@ TEST(SpcModesCycle, RecordSelectWithPlcAllocatesNothing) {
     plc.order(TaskId::A, (i * 7) % 32);
     plc.order(TaskId::B, (i * 11) % 32);
   }
-  const long before = g_allocs.load();
+  const long before = softmc::testing::allocation_count();
   long cycles = 0;
   while (!plc.idle() && cycles < 200000) {
     plc.cycle(kDt, r.wires());
@@ -56,7 +43,7 @@ TEST(SpcModesCycle, RecordSelectWithPlcAllocatesNothing) {
     r.cycle();
     ++cycles;
   }
-  const long during = g_allocs.load() - before;
+  const long during = softmc::testing::allocation_count() - before;
   ASSERT_TRUE(plc.idle());
   EXPECT_GT(plc.counters(TaskId::A).completed, 30u);
   EXPECT_EQ(during, 0) << "allocations inside " << cycles << " cycles";
@@ -73,7 +60,7 @@ TEST(SpcModesCycle, StartStopAllocatesNothing) {
   c.self_test_s = 0.05;
   r.power_up(c);
   r.run(0.06);
-  const long before = g_allocs.load();
+  const long before = softmc::testing::allocation_count();
   r.pulse(sig::kStart, 0.02);
   r.pulse(sig::kSyncIA, 0.02);
   r.set(sig::kStop, true);
@@ -82,7 +69,7 @@ TEST(SpcModesCycle, StartStopAllocatesNothing) {
   r.set(sig::kStop, false);
   r.run(0.05);
   r.pulse(sig::kStart, 0.02);  // reset
-  const long during = g_allocs.load() - before;
+  const long during = softmc::testing::allocation_count() - before;
   EXPECT_GT(r.ctl->task(TaskId::A).instructions_executed(), 5u);
   EXPECT_EQ(during, 0);
 }

@@ -1,24 +1,11 @@
 // The cycle is sacred: planning pushes and interpolation steps allocate nothing once configured.
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
+#include "alloc_counter.hpp"
+
 
 #include "planner_run.hpp"
 
-namespace {
-std::atomic<long> g_allocs{0};
-}  // namespace
-
-// Counts every allocation made in this test executable (test_motion).
-void* operator new(std::size_t n) {
-  g_allocs.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 using namespace softmc;
 using namespace softmc::motion;
@@ -36,7 +23,7 @@ TEST(InterpAlloc, PushFlushAndStepAllocateNothing) {
   for (std::size_t k = 1; k < reqs.size(); ++k) reqs[k].geom = make_line(reqs[k - 1].geom.end, reqs[k].geom.end);
   Planner planner(lim, 256);
   Interpolator in(planner.queue(), reqs.front().geom.start);
-  const long before = g_allocs.load();
+  const long before = softmc::testing::allocation_count();
   std::size_t next = 0;
   long cycles = 0;
   for (; cycles < 1'000'000; ++cycles) {
@@ -48,6 +35,6 @@ TEST(InterpAlloc, PushFlushAndStepAllocateNothing) {
     if (next == reqs.size() && in.idle()) break;
     in.step(0.001);
   }
-  EXPECT_EQ(g_allocs.load() - before, 0) << "allocations in " << cycles << " cycles";
+  EXPECT_EQ(softmc::testing::allocation_count() - before, 0) << "allocations in " << cycles << " cycles";
   EXPECT_GT(cycles, 300);
 }
