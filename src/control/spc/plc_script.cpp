@@ -6,45 +6,15 @@
 #include <fstream>
 #include <sstream>
 
+#include "control/spc/script_text.hpp"
 #include "control/spc/task.hpp"
 
 namespace softmc::control::spc {
 
-namespace {
-
-constexpr double kTimeEpsS = 1e-9;
-
-struct Field {
-  std::string_view text;
-  std::uint32_t col = 0;  // 1-based
-};
-
-std::vector<Field> fields_of(std::string_view line) {
-  std::vector<Field> out;
-  std::size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
-    if (i >= line.size() || line[i] == '#') break;
-    const std::size_t start = i;
-    while (i < line.size() && line[i] != ' ' && line[i] != '\t' && line[i] != '\r' && line[i] != '#') ++i;
-    out.push_back({line.substr(start, i - start), static_cast<std::uint32_t>(start + 1)});
-  }
-  return out;
-}
-
-bool iequal(std::string_view a, std::string_view b) {
-  if (a.size() != b.size()) return false;
-  for (std::size_t i = 0; i < a.size(); ++i)
-    if ((a[i] | 0x20) != (b[i] | 0x20)) return false;
-  return true;
-}
-
-bool to_int(std::string_view s, int& v) {
-  const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
-  return r.ec == std::errc{} && r.ptr == s.data() + s.size();
-}
-
-}  // namespace
+using script::Field;
+using script::iequal;
+using script::to_int;
+using script::kTimeEpsS;
 
 PlcScriptParseResult parse_plc_script(std::string_view text, const std::string& file_name) {
   PlcScriptParseResult res;
@@ -53,31 +23,13 @@ PlcScriptParseResult parse_plc_script(std::string_view text, const std::string& 
     res.diagnostics.push_back({file_name, line, col, core::Severity::Error, std::move(msg)});
   };
   double last_t = 0;
-  std::uint32_t line_no = 0;
-  std::size_t pos = 0;
-  while (pos <= text.size()) {
-    const std::size_t eol = text.find('\n', pos);
-    const std::string_view line = text.substr(pos, eol == std::string_view::npos ? text.size() - pos : eol - pos);
-    pos = eol == std::string_view::npos ? text.size() + 1 : eol + 1;
-    ++line_no;
-    const auto f = fields_of(line);
-    if (f.empty()) continue;
+  script::for_each_line(text, [&](std::uint32_t line_no, const std::vector<Field>& f) {
     PlcScriptEntry e;
     e.source_line = line_no;
-    double t = 0;
-    const auto r = std::from_chars(f[0].text.data(), f[0].text.data() + f[0].text.size(), t);
-    if (r.ec != std::errc{} || r.ptr != f[0].text.data() + f[0].text.size() || !std::isfinite(t) || t < 0) {
-      error(line_no, f[0].col, "expected a time in seconds (a number ≥ 0), got '" + std::string(f[0].text) + "'");
-      continue;
-    }
-    if (t + kTimeEpsS < last_t) {
-      error(line_no, f[0].col, "time goes backwards: " + std::string(f[0].text) + " s after " + std::to_string(last_t) + " s");
-      continue;
-    }
-    last_t = e.t_s = t;
+    if (auto err = script::read_time(f[0], last_t, e.t_s)) return error(line_no, f[0].col, std::move(*err));
     if (f.size() < 2) {
       error(line_no, static_cast<std::uint32_t>(f[0].col + f[0].text.size()), "expected A, B, STOP or ENABLE after the time");
-      continue;
+      return;
     }
     const auto& what = f[1].text;
     std::size_t want = 3;
@@ -91,16 +43,16 @@ PlcScriptParseResult parse_plc_script(std::string_view text, const std::string& 
       e.task = iequal(what, "A") ? 0 : 1;
     } else {
       error(line_no, f[1].col, "expected A, B, STOP or ENABLE, got '" + std::string(what) + "'");
-      continue;
+      return;
     }
     if (f.size() < want) {
       error(line_no, static_cast<std::uint32_t>(f[1].col + what.size()),
             e.kind == PlcScriptEntry::Kind::Order ? "expected a line number 0..31" : "expected 0 or 1");
-      continue;
+      return;
     }
     if (f.size() > want) {
       error(line_no, f[want].col, "unexpected text: '" + std::string(f[want].text) + "'");
-      continue;
+      return;
     }
     if (want == 3) {
       int v = -1;
@@ -108,26 +60,24 @@ PlcScriptParseResult parse_plc_script(std::string_view text, const std::string& 
       if (!to_int(f[2].text, v) || v < 0 || v > max) {
         error(line_no, f[2].col, std::string(max == 31 ? "expected a line number 0..31" : "expected 0 or 1") +
                                      ", got '" + std::string(f[2].text) + "'");
-        continue;
+        return;
       }
       e.value = static_cast<std::uint8_t>(v);
     }
     sc.entries.push_back(e);
-  }
+  });
   if (!core::has_errors(res.diagnostics)) res.script = std::move(sc);
   return res;
 }
 
 PlcScriptParseResult load_plc_script(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
+  const auto text = script::read_file(path);
+  if (!text) {
     PlcScriptParseResult res;
     res.diagnostics.push_back({path, 0, 0, core::Severity::Error, "cannot read the PLC orders file"});
     return res;
   }
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_plc_script(ss.str(), path);
+  return parse_plc_script(*text, path);
 }
 
 // rt-safe
