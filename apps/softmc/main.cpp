@@ -9,6 +9,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "control/travel_check.hpp"
 #include "machine/config.hpp"
 #include "program/iso/parser.hpp"
 #include "program/spc/store.hpp"
@@ -42,9 +43,14 @@ struct MachineArgs {
 // Parses a program; prints each diagnostic on stderr. Returns nothing on any error.
 std::optional<program::Program> load_program(const std::string& path, const machine::MachineConfig& cfg) {
   program::iso::ParseOptions opt;
-  (void)cfg;
   auto r = program::iso::parse_file(path, opt);
+  // Validate the whole thing, then act: the path must stay inside the travel (P-9) before anything moves.
+  if (r.program) {
+    auto travel = control::check_travel(*r.program, cfg.limits());
+    r.diagnostics.insert(r.diagnostics.end(), travel.begin(), travel.end());
+  }
   for (const auto& d : r.diagnostics) std::cerr << d.format() << '\n';
+  if (core::has_errors(r.diagnostics)) return std::nullopt;
   return std::move(r.program);
 }
 

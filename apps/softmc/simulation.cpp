@@ -1,6 +1,8 @@
 // Simulated run: one cycle = read drives → update channel and interpolator → write setpoints → supervise.
 #include "simulation.hpp"
 
+#include "control/travel_check.hpp"
+
 #include <fmt/format.h>
 
 #include <cmath>
@@ -82,9 +84,14 @@ report::TraceRow Simulation::row() const {
 
 SimResult simulate(const program::Program& prog, const machine::MachineConfig& cfg, const SimOptions& opt) {
   SimResult res;
-  Simulation sim(prog, cfg);
   res.trace.period_s = cfg.period_s;
   res.trace.axes = cfg.axis_mask();
+  // Soft limits before motion (P-9): a path that leaves the travel never starts.
+  if (const auto travel = control::check_travel(prog, cfg.limits()); !travel.empty()) {
+    res.result = travel.front().format();
+    return res;
+  }
+  Simulation sim(prog, cfg);
   if (opt.record) res.trace.rows.push_back(sim.row());  // t = 0: where the machine starts
 
   const auto max_cycles = static_cast<std::uint64_t>(opt.max_time_s / cfg.period_s);

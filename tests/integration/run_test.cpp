@@ -85,3 +85,13 @@ TEST(Run, FollowingErrorBeyondLimitFaultsTheMachine) {
   EXPECT_FALSE(res.ok);
   EXPECT_NE(res.result.find("following error on X"), std::string::npos) << res.result;
 }
+
+TEST(Run, P9_PathLeavingTheTravelIsRefusedBeforeAnythingMoves) {
+  const auto cfg = machine::default_machine();  // Z travel 0..100 mm
+  auto r = program::iso::parse("G21 G90\nG0 X10 Y10\nG1 Z-2 F100\nG1 X20\nM30\n", "plunge.ngc");
+  ASSERT_TRUE(r.program);
+  const auto res = app::simulate(*r.program, cfg);
+  EXPECT_FALSE(res.ok);
+  EXPECT_TRUE(res.trace.rows.empty());  // not a single cycle ran
+  EXPECT_EQ(res.result, "plunge.ngc:3:1: error: Z leaves the travel: -2.000 mm < min 0.000 mm");
+}

@@ -1,0 +1,39 @@
+// Whole-program soft-limit check.
+#include "control/travel_check.hpp"
+
+#include <fmt/format.h>
+
+#include "control/path.hpp"
+
+namespace softmc::control {
+
+core::Diagnostics check_travel(const program::Program& prog, const motion::MachineLimits& limits) {
+  constexpr double kEps = 1e-9;  // the planner's own slack: a path exactly on the travel end is inside
+  core::Diagnostics out;
+  core::Vec at = prog.start;
+  for (const auto& ins : prog.instructions) {
+    const auto seg = to_segment(ins.op, at);
+    if (!seg) continue;
+    core::Vec lo, hi;
+    seg->bounds(lo, hi);
+    for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
+      std::string what;
+      if (!limits.present(i)) {
+        if (lo[i] != 0 || hi[i] != 0) what = fmt::format("the machine has no {} axis", core::letter(i));
+      } else if (lo[i] < limits.axis[i].min_mm - kEps) {
+        what = fmt::format("{} leaves the travel: {:.3f} mm < min {:.3f} mm", core::letter(i), lo[i],
+                           limits.axis[i].min_mm);
+      } else if (hi[i] > limits.axis[i].max_mm + kEps) {
+        what = fmt::format("{} leaves the travel: {:.3f} mm > max {:.3f} mm", core::letter(i), hi[i],
+                           limits.axis[i].max_mm);
+      }
+      if (what.empty()) continue;
+      out.push_back({prog.file_of(ins.loc), ins.loc.line, ins.loc.col, core::Severity::Error, std::move(what)});
+      break;  // one message per instruction
+    }
+    at = seg->end;
+  }
+  return out;
+}
+
+}  // namespace softmc::control
