@@ -3,6 +3,9 @@
 
 #include <fmt/format.h>
 
+#include <set>
+#include <tuple>
+
 #include "control/path.hpp"
 
 namespace softmc::control {
@@ -10,6 +13,8 @@ namespace softmc::control {
 core::Diagnostics check_travel(const program::Program& prog, const motion::MachineLimits& limits) {
   constexpr double kEps = 1e-9;  // the planner's own slack: a path exactly on the travel end is inside
   core::Diagnostics out;
+  // A line inside a loop or subroutine yields many instructions: report each source location once.
+  std::set<std::tuple<std::uint16_t, std::uint32_t, std::uint32_t>> reported;
   core::Vec at = prog.start;
   for (const auto& ins : prog.instructions) {
     const auto seg = to_segment(ins.op, at);
@@ -28,6 +33,7 @@ core::Diagnostics check_travel(const program::Program& prog, const motion::Machi
                            limits.axis[i].max_mm);
       }
       if (what.empty()) continue;
+      if (!reported.emplace(ins.loc.file, ins.loc.line, ins.loc.col).second) break;
       out.push_back({prog.file_of(ins.loc), ins.loc.line, ins.loc.col, core::Severity::Error, std::move(what)});
       break;  // one message per instruction
     }

@@ -95,3 +95,19 @@ TEST(Run, P9_PathLeavingTheTravelIsRefusedBeforeAnythingMoves) {
   EXPECT_TRUE(res.trace.rows.empty());  // not a single cycle ran
   EXPECT_EQ(res.result, "plunge.ngc:3:1: error: Z leaves the travel: -2.000 mm < min 0.000 mm");
 }
+
+TEST(Run, GcodeExamplesRunOnTheRouter) {
+  // The CAM-like examples cut below the work surface: they fit the router, and run to their end.
+  const auto cfg = machine::load_machine(kSrc + "/examples/machines/router.toml");
+  for (const char* f : {"examples/gcode/pocket.ngc", "examples/gcode/drilling.ngc", "examples/gcode/profile_arcs.ngc",
+                        "examples/gcode/parametric_flange.ngc"}) {
+    const auto prog = load(f);
+    const auto res = app::simulate(prog, cfg);
+    EXPECT_TRUE(res.ok) << f << ": " << res.result;
+    const auto s = report::summarize(prog, cfg, res.trace);
+    for (const auto& a : cfg.axes) {
+      EXPECT_LE(s.axis[a.index].max_vel_mm_s, a.max_vel_mm_s * (1 + 1e-6)) << f << " axis " << a.name;
+      EXPECT_LE(s.axis[a.index].max_acc_mm_s2, a.max_acc_mm_s2 * (1 + 1e-3)) << f << " axis " << a.name;
+    }
+  }
+}
