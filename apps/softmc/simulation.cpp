@@ -10,11 +10,27 @@
 
 namespace softmc::app {
 
+namespace {
+// The [planner] keys (docs/configuration.md) as the planner and the interpolator take them.
+motion::PlannerConfig planner_config(const machine::MachineConfig& cfg) {
+  motion::PlannerConfig pc;
+  pc.tolerance_mm = cfg.planner.tolerance_mm;
+  pc.max_feed_override = cfg.planner.max_feed_override;
+  return pc;
+}
+motion::InterpolatorConfig interpolator_config(const machine::MachineConfig& cfg) {
+  motion::InterpolatorConfig ic;
+  ic.max_feed_override = cfg.planner.max_feed_override;
+  ic.max_horizon_blocks = static_cast<int>(cfg.planner_window());
+  return ic;
+}
+}  // namespace
+
 Simulation::Simulation(const program::Program& prog, const machine::MachineConfig& cfg)
     : prog_(prog),
       cfg_(cfg),
-      planner_(cfg.limits(), cfg.planner_queue),
-      interp_(planner_.queue(), prog.start),
+      planner_(cfg.limits(), cfg.planner_window(), planner_config(cfg)),
+      interp_(planner_.queue(), prog.start, interpolator_config(cfg)),
       channel_(planner_, interp_),
       exec_(cfg.period_s) {
   channel_.load(prog);

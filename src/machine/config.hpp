@@ -57,6 +57,14 @@ struct SpcMachineConfig {
   friend bool operator==(const SpcMachineConfig&, const SpcMachineConfig&) = default;
 };
 
+// The look-ahead planner (docs/planner.md): the [planner] table.
+struct PlannerMachineConfig {
+  double tolerance_mm = 0.05;      // G64 without P, and G23: largest distance of the path from a programmed corner
+  std::size_t lookahead = 2000;    // blocks in the look-ahead window (a blended corner makes two)
+  double max_feed_override = 2.0;  // P-8: the feed override is clamped to [0, this]; planned for
+  friend bool operator==(const PlannerMachineConfig&, const PlannerMachineConfig&) = default;
+};
+
 struct MachineConfig {
   std::string name = "cutting_table";
   double period_s = 0.001;                 // interpolation period
@@ -64,11 +72,14 @@ struct MachineConfig {
   std::string tool_output = "torch";       // name of the tool (torch/spindle) output
   std::size_t planner_queue = 256;         // timed segments the planner may hold
   SpcMachineConfig spc;                    // [spc]
+  PlannerMachineConfig planner;            // [planner]
 
   // Only enabled axes count as the machine's axes: axis() is nullptr for a disabled one.
   const AxisConfig* axis(std::size_t index) const;
   core::AxisMask axis_mask() const;
   motion::MachineLimits limits() const;
+  // Blocks the planner's window holds: planner.lookahead, or planner_queue where that is larger.
+  std::size_t planner_window() const { return planner.lookahead > planner_queue ? planner.lookahead : planner_queue; }
   friend bool operator==(const MachineConfig&, const MachineConfig&) = default;
 };
 

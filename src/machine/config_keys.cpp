@@ -125,6 +125,7 @@ std::optional<ConfigProblem> find_problem(const MachineConfig& cfg, const std::v
   }
 
   if (auto p = check_keys(kSpcKeys, cfg.spc, "spc.", only)) return p;
+  if (auto p = check_keys(kPlannerKeys, cfg.planner, "planner.", only)) return p;
 
   for (const auto& a : cfg.axes) {
     if (!a.enabled) continue;  // a disabled axis takes no part in anything; checked once enabled

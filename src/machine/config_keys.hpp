@@ -89,6 +89,13 @@ inline const std::array<ConfigKey<SpcMachineConfig>, 14> kSpcKeys{{
     {"registers_file", &SpcMachineConfig::registers_file, ConfigRule::None},
 }};
 
+// Keys of the [planner] table (docs/planner.md).
+inline const std::array<ConfigKey<PlannerMachineConfig>, 3> kPlannerKeys{{
+    {"tolerance_mm", &PlannerMachineConfig::tolerance_mm, ConfigRule::NonNegative},
+    {"lookahead", &PlannerMachineConfig::lookahead, ConfigRule::Queue},
+    {"max_feed_override", &PlannerMachineConfig::max_feed_override, ConfigRule::Positive},
+}};
+
 // "axes.x" for axis index 0.
 std::string axis_key(std::size_t index);
 // The TOML spelling of a home side: "negative" / "positive".

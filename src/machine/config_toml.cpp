@@ -109,10 +109,11 @@ class Setter {
     if (path.empty()) return apply_table_node(path, node, key, loc);
     if (path[0] == "axes") return apply_axes(path, node, key, loc);
     if (path[0] == "spc") return apply_spc(path, node, key, loc);
+    if (path[0] == "planner") return apply_planner(path, node, key, loc);
     if (path.size() == 1)
       for (const auto& k : kMachineKeys)
         if (k.name == path[0]) return set_field(cfg_, k, node, key, loc);
-    std::vector<std::string_view> names{"axes", "spc"};
+    std::vector<std::string_view> names{"axes", "spc", "planner"};
     for (const auto& k : kMachineKeys) names.push_back(k.name);
     fail(loc, "unknown key " + key + suggestion(path.back(), names));
   }
@@ -161,6 +162,17 @@ class Setter {
         if (k.name == path[1]) return set_field(cfg_.spc, k, node, key, loc);
     std::vector<std::string_view> names;
     for (const auto& k : kSpcKeys) names.push_back(k.name);
+    fail(loc, "unknown key " + key + suggestion(path.back(), names));
+  }
+
+  void apply_planner(const std::vector<std::string>& path, const toml::node& node, const std::string& key,
+                     const std::string& loc) {
+    if (path.size() == 1) return apply_table_node(path, node, key, loc);
+    if (path.size() == 2)
+      for (const auto& k : kPlannerKeys)
+        if (k.name == path[1]) return set_field(cfg_.planner, k, node, key, loc);
+    std::vector<std::string_view> names;
+    for (const auto& k : kPlannerKeys) names.push_back(k.name);
     fail(loc, "unknown key " + key + suggestion(path.back(), names));
   }
 
@@ -349,6 +361,8 @@ std::string to_toml(const MachineConfig& cfg) {
   }
   out += "\n[spc]\n";
   write_keys(out, kSpcKeys, cfg.spc);
+  out += "\n[planner]\n";
+  write_keys(out, kPlannerKeys, cfg.planner);
   return out;
 }
 

@@ -71,6 +71,10 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   const auto check = [&](const ProfileState& x, double ds, bool want_action) {
     Binding worst;
     double a_run = a_now, j_run = j_now;
+    // Limits of just the blocks before k: a stop at the start of block k never enters k or beyond,
+    // so their (possibly lower) limits must not weaken the brake that lands on it — that is what
+    // missed a stop after a 0.015 mm block when a slower helix came within this cycle's reach.
+    double a_blk = f.a_mm_s2 * scale, j_blk = jerk_of(f, dt) * scale;
     double d = f.length - s_;  // distance from now to the start of block k
     const auto take = [&](const ProfileState& y) {
       if (!worst.has_act || y.v < worst.act.v || (y.v == worst.act.v && y.a < worst.act.a)) worst.act = y;
@@ -90,17 +94,18 @@ const Setpoint& Interpolator::step_jerk(double dt) {
         }
       }
       const double left = d - ds;
+      const double a_brk = u <= 0 ? a_blk : a_run, j_brk = u <= 0 ? j_blk : j_run;
       bool violated;
       if (left <= kEps_mm) {
-        violated = std::max({v_, x.v, inflection_speed(x.v, x.a, j_run)}) > u + kEps_mm_s;  // crossed now
+        violated = std::max({v_, x.v, inflection_speed(x.v, x.a, j_brk)}) > u + kEps_mm_s;  // crossed now
       } else {
-        violated = brake_distance(x.v, x.a, u, a_run, j_run, a_next) > left + kEps_mm;
+        violated = brake_distance(x.v, x.a, u, a_brk, j_brk, a_next) > left + kEps_mm;
       }
       if (violated) {
         worst.ok = false;
         if (want_action) {
           if (u <= 0) {
-            ProfileState y = stop_step(now, d, std::max({v_, vt, 1e-6}), a_run, j_run, dt);
+            ProfileState y = stop_step(now, d, std::max({v_, vt, 1e-6}), a_brk, j_brk, dt);
             if (y.s > d) y.s = d;
             take(y);
             break;  // stopping here: nothing beyond this point matters
@@ -119,6 +124,8 @@ const Setpoint& Interpolator::step_jerk(double dt) {
       const Block& b = ring.at(k);
       a_run = std::min(a_run, b.a_mm_s2 * scale);
       j_run = std::min(j_run, jerk_of(b, dt) * scale);
+      a_blk = std::min(a_blk, b.a_mm_s2 * scale);
+      j_blk = std::min(j_blk, jerk_of(b, dt) * scale);
       d += b.length;
     }
     return worst;

@@ -2,6 +2,7 @@
 #include "motion/planner/planner.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -101,24 +102,53 @@ SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double 
   return l;
 }
 
+namespace {
+// Largest |A·cos φ + B·sin φ| over φ ∈ [0, sweep]: the amplitude where a peak lies inside, else an end.
+double max_abs_over(double a, double b, double sweep) {
+  const double amp = std::hypot(a, b);
+  if (amp < 1e-300) return 0;
+  const double theta = std::atan2(b, a);  // peaks at theta + kπ
+  const double first = theta - std::floor(theta / std::numbers::pi) * std::numbers::pi;  // in [0, π)
+  if (first <= sweep) return amp;
+  return std::max(std::abs(a), std::abs(a * std::cos(sweep) + b * std::sin(sweep)));
+}
+}  // namespace
+
 // rt-safe
 SegmentLimits blend_limits(const BlendArc& b, const MachineLimits& lim, double cn) {
-  // On p(φ) = c + R(cos φ·u + sin φ·w) axis i's tangent and normal components are amp_i·(sin, cos)
-  // of one phase, amp_i = √(u_i² + w_i²): the arc bound above with `inplane` replaced by amp_i.
-  const double ct = std::sqrt(std::max(0.0, 1 - cn * cn));
+  // On p(φ) = c + R(cos φ·u + sin φ·w) axis i sees a_t·t_i(φ) + a_n·n_i(φ), t_i = −u_i sin φ + w_i cos φ,
+  // n_i = −(u_i cos φ + w_i sin φ). Two bounds each keep it within a_max_i:
+  //   circle:   t_i and n_i are one phase apart with amplitude amp_i = √(u_i² + w_i²), so
+  //             √(a_t² + a_n²)·amp_i ≤ a_max_i;
+  //   sweep:    a_t·T_i + a_n·N_i ≤ a_max_i with T_i, N_i the largest |t_i|, |n_i| over the blend's own
+  //             sweep — much smaller than amp_i on a corner of a few degrees where an axis carries
+  //             mostly the tangent (or mostly the normal): the short blends of 3-D CAM polylines.
+  // The centripetal a_n = v_cap²/R takes cn of what every axis allows it alone; each axis then
+  // gives the tangential acceleration whichever bound leaves more.
   SegmentLimits l{kInf, kInf, kInf};
   const double kappa = 1 / b.radius;
+  double an_max = kInf;
+  std::array<double, core::kMaxAxes> tmax{}, nmax{};
   for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
-    const double amp = std::hypot(b.u[i], b.w[i]);
-    if (amp < 1e-12) continue;
-    l.v_max_mm_s = std::min({l.v_max_mm_s, lim.axis[i].v_max_mm_s / amp, std::sqrt(cn * lim.axis[i].a_max_mm_s2 * b.radius / amp)});
-    l.a_max_mm_s2 = std::min(l.a_max_mm_s2, ct * lim.axis[i].a_max_mm_s2 / amp);
-    curve_jerk(l, lim.axis[i].j_max_mm_s3, amp, amp, kappa);
+    tmax[i] = max_abs_over(b.w[i], -b.u[i], b.sweep);
+    nmax[i] = max_abs_over(b.u[i], b.w[i], b.sweep);
+    if (tmax[i] < 1e-12 && nmax[i] < 1e-12) continue;
+    if (tmax[i] >= 1e-12) l.v_max_mm_s = std::min(l.v_max_mm_s, lim.axis[i].v_max_mm_s / tmax[i]);
+    if (nmax[i] >= 1e-12) an_max = std::min(an_max, lim.axis[i].a_max_mm_s2 / nmax[i]);
   }
+  const double an = cn * an_max;
+  if (std::isfinite(an)) l.v_max_mm_s = std::min(l.v_max_mm_s, std::sqrt(an * b.radius));
   for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
+    if (tmax[i] < 1e-12) continue;
+    const double amax = lim.axis[i].a_max_mm_s2;
     const double amp = std::hypot(b.u[i], b.w[i]);
-    if (amp >= 1e-12) curve_jerk_acc(l, lim.axis[i].j_max_mm_s3, amp, kappa);
+    const double circle = std::sqrt(std::max(0.0, (amax / amp) * (amax / amp) - an * an));
+    const double sweep = std::max(0.0, amax - an * nmax[i]) / tmax[i];
+    l.a_max_mm_s2 = std::min(l.a_max_mm_s2, std::max(circle, sweep));
+    curve_jerk(l, lim.axis[i].j_max_mm_s3, tmax[i], nmax[i], kappa);
   }
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i)
+    if (nmax[i] >= 1e-12) curve_jerk_acc(l, lim.axis[i].j_max_mm_s3, nmax[i], kappa);
   return l;
 }
 

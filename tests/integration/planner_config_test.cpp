@@ -1,0 +1,71 @@
+// The [planner] keys reach the planner of a whole run: tolerance, look-ahead window, feed override.
+#include <gtest/gtest.h>
+
+#include "machine/config.hpp"
+#include "program/iso/parser.hpp"
+#include "report/summary.hpp"
+#include "simulation.hpp"
+
+using namespace softmc;
+
+namespace {
+program::Program load(const std::string& rel) {
+  auto r = program::iso::parse_file(std::string(SOFTMC_SOURCE_DIR) + "/" + rel);
+  for (const auto& d : r.diagnostics) ADD_FAILURE() << d.format();
+  EXPECT_TRUE(r.program);
+  return r.program ? *r.program : program::Program{};
+}
+
+struct Outcome {
+  double time_s = 0, deviation_mm = 0;
+};
+Outcome run(const program::Program& prog, const std::vector<std::string>& sets) {
+  auto cfg = machine::default_machine();
+  for (const auto& s : sets) machine::apply_override(cfg, s);
+  machine::validate(cfg);
+  const auto res = app::simulate(prog, cfg);
+  EXPECT_TRUE(res.ok) << res.result;
+  const auto s = report::summarize(prog, cfg, res.trace);
+  return {static_cast<double>(res.cycles) * cfg.period_s, s.max_path_deviation_mm};
+}
+}  // namespace
+
+// planner.tolerance_mm is the P of a program without G64 (the engraving sets no path mode): corners
+// are cut within it, and any P > 0 is faster than exact stops. (A larger P is not always faster:
+// on 0.4 mm chords the blends are bounded by the segment lengths, not by P.)
+TEST(PlannerConfig, ToleranceKeyBoundsTheDeviationOfProgramsWithoutG64) {
+  const auto prog = load("examples/gcode/bench/engraving.ngc");
+  const std::vector<std::string> table{"axes.x.max_jerk_mm_s3=0", "axes.y.max_jerk_mm_s3=0", "axes.z.max_jerk_mm_s3=0",
+                                       "axes.z.min_mm=-10"};
+  auto with = [&](const char* tol) {
+    auto s = table;
+    s.push_back(std::string("planner.tolerance_mm=") + tol);
+    return run(prog, s);
+  };
+  const auto exact = with("0");
+  const auto fine = with("0.01");
+  const auto coarse = with("0.2");
+  EXPECT_LT(exact.deviation_mm, 1e-9);
+  EXPECT_LE(fine.deviation_mm, 0.01 + 1e-9);
+  EXPECT_GT(coarse.deviation_mm, 0.05);  // the key is used, not the default 0.05
+  EXPECT_LE(coarse.deviation_mm, 0.2 + 1e-9);
+  EXPECT_LT(fine.time_s, exact.time_s);
+  EXPECT_LT(coarse.time_s, exact.time_s);
+}
+
+// A look-ahead window too short for the braking distance only slows the path; a long one works.
+TEST(PlannerConfig, LookaheadKeySizesTheWindow) {
+  const auto prog = load("examples/gcode/bench/surfacing.ngc");
+  const std::vector<std::string> trap{"axes.x.max_jerk_mm_s3=0", "axes.y.max_jerk_mm_s3=0", "axes.z.max_jerk_mm_s3=0",
+                                      "axes.z.min_mm=-10", "planner_queue=2"};
+  auto with = [&](const char* n) {
+    auto s = trap;
+    s.push_back(std::string("planner.lookahead=") + n);
+    return run(prog, s);
+  };
+  const auto short_window = with("8");
+  const auto long_window = with("10000");
+  EXPECT_LT(long_window.time_s, short_window.time_s * 0.9);
+  EXPECT_LE(long_window.deviation_mm, 0.05 + 1e-9);
+  EXPECT_LE(short_window.deviation_mm, 0.05 + 1e-9);
+}
