@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <random>
 #include <string>
 
@@ -89,5 +90,25 @@ void BM_GcodeMovesToDevNull(benchmark::State& state) {
   report(state, text);
 }
 BENCHMARK(BM_GcodeMovesToDevNull)->Arg(100000)->Unit(benchmark::kMillisecond);
+
+// What `softmc moves FILE > /dev/null` does: the file read in one go, instructions streamed into
+// the writer in batches (no whole-program IR).
+void BM_GcodeMovesStreamed(benchmark::State& state) {
+  const std::string text = cam_program(static_cast<std::size_t>(state.range(0)));
+  const std::string path = (std::filesystem::temp_directory_path() / "softmc_bench_cam.ngc").string();
+  if (std::FILE* f = std::fopen(path.c_str(), "wb")) {
+    std::fwrite(text.data(), 1, text.size(), f);
+    std::fclose(f);
+  }
+  std::FILE* null = std::fopen("/dev/null", "w");
+  for (auto _ : state) {
+    const auto d = app::write_program_moves(null, path, {}, 0b111);
+    if (core::has_errors(d)) state.SkipWithError("the generated program did not parse");
+  }
+  std::fclose(null);
+  std::remove(path.c_str());
+  report(state, text);
+}
+BENCHMARK(BM_GcodeMovesStreamed)->Arg(1000000)->Unit(benchmark::kMillisecond);
 
 }  // namespace

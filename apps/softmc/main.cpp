@@ -142,9 +142,10 @@ int cmd_check(const std::vector<std::string>& paths, const MachineArgs& margs) {
 // `softmc moves`: the interpreter's canonical output, one JSON object per line (docs/moves.md).
 int cmd_moves(const std::string& path, const MachineArgs& margs) {
   const auto cfg = margs.load();
-  const auto prog = load_program(path, cfg);
-  if (!prog) return 1;
-  app::write_moves(stdout, *prog, cfg.axis_mask());
+  // Streamed (moves.hpp): same options as load_program, output only for a program without errors.
+  const auto diags = app::write_program_moves(stdout, path, program::iso::ParseOptions{}, cfg.axis_mask());
+  for (const auto& d : diags) std::cerr << d.format() << '\n';
+  if (core::has_errors(diags)) return 1;
   return std::fflush(stdout) == 0 ? 0 : 1;
 }
 

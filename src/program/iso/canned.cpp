@@ -107,7 +107,12 @@ std::optional<LineError> Exec::cycle(std::uint32_t col) {
   // LinuxCNC backs off 0.010 in in inch programs and 0.254 mm in mm programs: 0.254 mm either way.
   const double back_off = kRapidDeltaInch * kMmPerInch;
   std::size_t guard = 0;
+  const auto too_many = [&] {
+    return error(col, fmt::format("the canned cycle makes more than {} moves: the program's instruction limit "
+                                  "(fewer repeats L, or a larger peck Q)", opt.max_ops));
+  };
   for (int n = 0; n < repeats; ++n) {
+    if (out.ops.size() > opt.max_ops) return too_many();
     aa += aa_inc;
     bb += bb_inc;
     rapid(aa, bb, old_cc);
@@ -128,6 +133,7 @@ std::optional<LineError> Exec::cycle(std::uint32_t col) {
       case Motion::Drill83:
         for (double depth = r - q; depth > cc; depth -= q) {
           if (++guard > 100000) return error(col, "the peck cycle would make more than 100000 pecks: Q is too small");
+          if (out.ops.size() > opt.max_ops) return too_many();
           feed_to(aa, bb, depth);
           if (st.motion == Motion::Drill83) rapid(aa, bb, r);  // G83 pecks clear chips at R, not at the retract height
           rapid(aa, bb, depth + back_off);

@@ -224,10 +224,35 @@ std::optional<CompError> CutterComp::push_motion(const Instruction& in, std::vec
   P2 new_start = T;
   bool cut_back = false;  // an inside corner moved the held move's end
 
-  if (first_move_) {
+  if (first_move_ && arc) {
+    // Entry arc (LinuxCNC 2.9 convert_arc_comp1): it ends at the programmed end point moved by the
+    // tool radius along the radius (towards the centre when the tool is inside the arc: end_off
+    // above). A true arc from the tool to there needs a new centre: on the line from end_off
+    // towards the programmed centre, as far from the tool as from end_off.
+    //      tool T ·───────╮            A = end_off, B = new centre, M = midpoint of T and A:
+    //                  ·   ╲ end_off   |AB| = (|TA| / 2) / cos(angle TAB)
+    //        centre C ·─ B ─·
+    if (len(P - T) <= r)
+      return fail(fmt::format("cutter compensation entry arc is not longer than the tool radius ({} mm)",
+                              radius_text(r)));
+    const P2 C{arc->center0, arc->center1};
+    const double half = len(T - end_off) / 2.0;
+    const double ab = std::atan2(C.y - end_off.y, C.x - end_off.x);
+    const double a_ang = std::atan2(T.y - end_off.y, T.x - end_off.x) - ab;
+    if (std::abs(std::cos(a_ang)) < 0.0001)  // LinuxCNC TOLERANCE_EQUAL
+      return fail(fmt::format("tool radius {} mm is not less than the entry arc radius with cutter compensation",
+                              radius_text(r)));
+    const double c_len = half / std::cos(a_ang);
+    const P2 B{end_off.x + c_len * std::cos(ab), end_off.y + c_len * std::sin(ab)};
+    auto& na = std::get<Arc>(nh.ins.op);
+    na.center0 = B.x;
+    na.center1 = B.y;
+    nh.cx = B.x;
+    nh.cy = B.y;
+    nh.r = len(end_off - B);  // the corner after it still turns by the programmed tangent at P
+  } else if (first_move_) {
     // Entry move (LinuxCNC convert_straight_comp1): from the tool to the end point offset
     // perpendicular to the entry move itself.
-    if (arc) return fail("the first move after G41/G42 must be a straight line (G0 or G1), not an arc");
     if (len(P - T) <= r)
       return fail(fmt::format("cutter compensation entry move is not longer than the tool radius ({} mm)",
                               radius_text(r)));

@@ -14,7 +14,9 @@
 //
 // The first move after G41/G42 is the entry (LinuxCNC's rules): a straight move from the current
 // tool position to the programmed end point offset perpendicular to the entry move, which must be
-// longer than the tool radius. G40 flushes the held move; the next move then starts at the tool
+// longer than the tool radius; or an arc (LinuxCNC 2.9 convert_arc_comp1) to the programmed end
+// point moved by the tool radius along the radius, about a centre moved along that radius so that
+// it starts at the tool. G40 flushes the held move; the next move then starts at the tool
 // position (the interpreter reads it from tool_position()). Moves with no motion in the plane
 // (Z plunges) keep the tool at its offset point; non-motion instructions keep their order.
 //

@@ -288,11 +288,60 @@ std::optional<LineError> ValueReader::read_ref(std::size_t& i, ParamRef& out, in
 // with at most one decimal point; white space inside is ignored, as RS274 ignores it everywhere
 // outside comments (so "X 1 0.5" is X10.5). RS274 has no exponent form: "1e3" is refused, and
 // reported as out of range when its value would be.
+namespace {
+
+constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+                             1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+
+}  // namespace
+
+// Up to 15 significant digits make an integer below 2^53, and dividing it by an exact power of
+// ten rounds correctly, as from_chars does.
+bool read_plain_number(std::string_view s, std::size_t& i, double& out) {
+  const char* p = s.data() + i;
+  const char* const end = s.data() + s.size();
+  bool negative = false;
+  if (p < end && (*p == '+' || *p == '-')) negative = *p++ == '-';
+  const auto digit = [](char c) { return static_cast<unsigned>(c - '0') < 10u; };
+  const char* const digits_start = p;
+  while (p < end && *p == '0') ++p;  // leading zeros: not significant
+  std::uint64_t mantissa = 0;  // wraps only when there are too many digits: then refused below
+  const char* const int_start = p;
+  while (p < end && digit(*p)) mantissa = mantissa * 10 + static_cast<std::uint64_t>(*p++ - '0');
+  std::ptrdiff_t significant = p - int_start;
+  bool any = p > digits_start;
+  std::ptrdiff_t fraction = 0;
+  if (p < end && *p == '.') {
+    const char* const frac_start = ++p;
+    while (p < end && digit(*p)) {
+      mantissa = mantissa * 10 + static_cast<std::uint64_t>(*p++ - '0');
+      if (mantissa != 0) ++significant;  // zeros right after the point are not significant
+    }
+    fraction = p - frac_start;
+    any = any || fraction > 0;
+  }
+  if (!any || significant > 15 || fraction > 22) return false;
+  const char* q = p;
+  while (q < end && is_space(*q)) ++q;
+  if (q < end && (digit(*q) || *q == '.')) return false;  // "1 0.5": the number goes on
+  if (p < end && (*p == 'e' || *p == 'E' || *p == '.')) return false;
+  const double v = static_cast<double>(mantissa) / kPow10[fraction];
+  if (v > kMaxNumberMagnitude) return false;
+  out = (negative && v != 0.0) ? -v : v;  // "-0" reads as 0
+  i = static_cast<std::size_t>(q - s.data());
+  return true;
+}
+
 std::optional<std::string> read_number(std::string_view s, std::size_t& i, char letter, double& out) {
+  if (read_plain_number(s, i, out)) return std::nullopt;
   char text[64];  // digits kept: leading zeros are dropped and digits beyond 40 significant ones add nothing
   std::size_t n = 0, int_digits_dropped = 0;
   bool negative = false, sign = false, point = false, significant = false;
   std::size_t digits = 0;
+  // The usual number ("12.3456") is read exactly on the way: up to 15 significant digits make an
+  // integer below 2^53, and dividing it by an exact power of ten rounds correctly, as from_chars does.
+  std::uint64_t mantissa = 0;
+  int mantissa_digits = 0, fraction_digits = 0;
   std::size_t after_number = i;
   skip(s, i);
   if (i < s.size() && (s[i] == '+' || s[i] == '-')) {
@@ -306,6 +355,9 @@ std::optional<std::string> read_number(std::string_view s, std::size_t& i, char 
     if (is_digit(c)) {
       ++digits;
       after_number = i + 1;
+      if (point) ++fraction_digits;
+      if (mantissa != 0 || c != '0') ++mantissa_digits;
+      if (mantissa_digits <= 15) mantissa = mantissa * 10 + static_cast<std::uint64_t>(c - '0');
       if (!significant && c == '0' && !point) continue;  // leading zeros
       significant = true;
       if (n < 48) text[n++] = c;
@@ -345,10 +397,14 @@ std::optional<std::string> read_number(std::string_view s, std::size_t& i, char 
     return std::nullopt;
   }
   double v = 0;
-  const auto [ptr, ec] = std::from_chars(text, text + n, v, std::chars_format::fixed);
-  if (ec == std::errc::result_out_of_range) return std::string("number out of range");
-  if (ec != std::errc() || !std::isfinite(v)) return std::string("malformed number");
-  (void)ptr;
+  if (mantissa_digits <= 15 && fraction_digits <= 22) {
+    v = static_cast<double>(mantissa) / kPow10[fraction_digits];
+  } else {
+    const auto [ptr, ec] = std::from_chars(text, text + n, v, std::chars_format::fixed);
+    if (ec == std::errc::result_out_of_range) return std::string("number out of range");
+    if (ec != std::errc() || !std::isfinite(v)) return std::string("malformed number");
+    (void)ptr;
+  }
   if (std::fabs(v) > kMaxNumberMagnitude)
     return fmt::format("number out of range (magnitude above {:g})", kMaxNumberMagnitude);
   out = (negative && v != 0.0) ? -v : v;  // "-0" reads as 0, not as a negative zero in dumps

@@ -55,6 +55,12 @@ class ValueReader {
 // the word in "X word has no number". Shared by the lexer and the value reader.
 std::optional<std::string> read_number(std::string_view s, std::size_t& i, char letter, double& out);
 
+// The number as CAM programs write it ("-12.3456" followed by the next word, spaces or the line
+// end), read in one pass: what read_number gives for it, with i past the spaces after it. False
+// (i untouched) for anything else (spaces inside, more than 15 significant digits, an 'e',
+// errors): read_number then reads it.
+bool read_plain_number(std::string_view s, std::size_t& i, double& out);
+
 std::uint32_t col_of(std::size_t i);
 bool is_space(char c);
 

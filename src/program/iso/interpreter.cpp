@@ -1,7 +1,9 @@
 // Interpreter: applies one checked block to the modal state and emits canonical IR operations.
 #include "program/iso/interpreter.hpp"
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 
 #include "program/iso/arc.hpp"
@@ -38,15 +40,31 @@ const char* word_users(char letter) {
   }
 }
 
+// No offset at all (bit for bit, so that a -0 offset takes the general path): the common case
+// of a CAM program, where the conversions below are (almost) the identity.
+bool no_offsets(const ModalState& st) {
+  std::uint64_t bits = std::bit_cast<std::uint64_t>(st.rotation_deg);
+  for (std::size_t a = 0; a < core::kMaxAxes; ++a)
+    bits |= std::bit_cast<std::uint64_t>(st.work[a]) | std::bit_cast<std::uint64_t>(st.axis[a]) |
+            std::bit_cast<std::uint64_t>(st.tool[a]);
+  return bits == 0;
+}
+
 }  // namespace
 
 core::Vec to_machine(const ModalState& st, const core::Vec& program) {
+  if (no_offsets(st)) {
+    core::Vec m = program;
+    for (double& x : m.v) x += 0.0;  // as adding the zero offsets does: -0 becomes 0
+    return m;
+  }
   core::Vec m = program + st.axis;
   rotate_xy(m, st.rotation_deg);
   return m + st.work + st.tool;
 }
 
 core::Vec to_program(const ModalState& st, const core::Vec& machine) {
+  if (no_offsets(st)) return machine;  // x - 0 is x, -0 included
   core::Vec p = machine - st.tool - st.work;
   rotate_xy(p, -st.rotation_deg);
   return p - st.axis;
@@ -476,9 +494,32 @@ std::optional<LineError> execute(const Block& b, ModalState& state, const Parame
   static const MTable kFixed;
   InterpOptions o = opt;
   if (!o.mtable) o.mtable = &kFixed;
+  // The NURBS points collected so far (up to 10000) move into the working copy instead of being
+  // copied with the state on every block; on error they move back without what the block added.
+  std::vector<core::Vec> ctrl;
+  std::vector<double> weights;
+  ctrl.swap(state.nurbs_ctrl);
+  weights.swap(state.nurbs_weights);
+  const std::size_t n_ctrl = ctrl.size(), n_weights = weights.size();
   detail::Exec ex(b, state, params, o, out);
-  if (auto e = ex.run()) return e;
-  state = ex.st;
+  ex.st.nurbs_ctrl.swap(ctrl);
+  ex.st.nurbs_weights.swap(weights);
+  if (auto e = ex.run()) {
+    if (ex.st.nurbs_ctrl.size() >= n_ctrl && ex.st.nurbs_weights.size() >= n_weights) {
+      ex.st.nurbs_ctrl.resize(n_ctrl);  // a point added by this block (or a G5.2 started on nothing)
+      ex.st.nurbs_weights.resize(n_weights);
+      state.nurbs_ctrl.swap(ex.st.nurbs_ctrl);
+      state.nurbs_weights.swap(ex.st.nurbs_weights);
+    } else {
+      for (auto& op : out.ops)  // G5.3 moved them into its Nurbs before a later part of the block failed
+        if (auto* nb = std::get_if<Nurbs>(&op); nb && nb->ctrl.size() == n_ctrl) {
+          state.nurbs_ctrl.swap(nb->ctrl);
+          state.nurbs_weights.swap(nb->weights);
+        }
+    }
+    return e;
+  }
+  state = std::move(ex.st);
   return std::nullopt;
 }
 

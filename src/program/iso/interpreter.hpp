@@ -22,6 +22,9 @@ struct InterpOptions {
   const ToolTable* tools = nullptr;  // null = no tool table: H and D words name no tool
   const MTable* mtable = nullptr;    // null = the fixed P-10 table
   double g23_tolerance_mm = 0.05;    // G23: G64 with this tolerance (P-12)
+  // Instructions one block may still make (the program's remaining budget): a canned cycle with
+  // many repeats (L) or pecks stops with an error at this many moves instead of running on.
+  std::size_t max_ops = static_cast<std::size_t>(-1);
 };
 
 // Everything one block produced. Nothing of it takes effect unless the whole block succeeded:

@@ -16,9 +16,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <memory>
 #include <unordered_set>
 
@@ -26,6 +26,7 @@
 
 #include "program/iso/block.hpp"
 #include "program/iso/cutter_comp.hpp"
+#include "program/iso/fast_block.hpp"
 #include "program/iso/flow_index.hpp"
 #include "program/iso/interpreter.hpp"
 #include "program/iso/lexer.hpp"
@@ -67,15 +68,27 @@ bool mentions_letter(std::string_view line, char c) {
   return false;
 }
 
+// The whole file in one read (a million-line program is read in milliseconds, not by the character).
 std::optional<std::string> read_text(const std::string& path, std::string& text) {
   std::error_code ec;
-  bool ok = std::filesystem::is_regular_file(path, ec) && !ec;  // a directory opens but does not read
-  if (ok) {
-    std::ifstream in(path, std::ios::binary);
-    ok = static_cast<bool>(in);
-    if (ok) text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  const bool regular = std::filesystem::is_regular_file(path, ec) && !ec;  // a directory opens but does not read
+  std::FILE* f = regular ? std::fopen(path.c_str(), "rb") : nullptr;
+  if (!f) return std::string("cannot read file");
+  const auto size = std::filesystem::file_size(path, ec);
+  text.clear();
+  if (!ec) text.resize(static_cast<std::size_t>(size));
+  std::size_t n = text.empty() ? 0 : std::fread(text.data(), 1, text.size(), f);
+  text.resize(n);
+  // A file that grew while it was read (or whose size the system does not know): read the rest.
+  char chunk[1 << 16];
+  while (!std::ferror(f) && !std::feof(f)) {
+    const std::size_t k = std::fread(chunk, 1, sizeof chunk, f);
+    text.append(chunk, k);
+    if (k == 0) break;
   }
-  if (!ok) return std::string("cannot read file");
+  const bool failed = std::ferror(f) != 0;
+  std::fclose(f);
+  if (failed) return std::string("cannot read file");
   return std::nullopt;
 }
 
@@ -111,10 +124,14 @@ class ProgramReader {
     main_dir_ = dir.empty() ? std::string(".") : dir.string();
   }
 
-  ParseResult run(std::string_view text) {
+  ParseResult run(std::string text) {
     for (const double v : program_.start.v)
       if (!std::isfinite(v)) add_error(0, 0, 0, "start position is not finite");
-    add_file(program_.files[0], std::string(text));
+    add_file(program_.files[0], std::move(text));
+    // Most lines of a CAM program make one instruction: room for them all up front, so that a
+    // million-line program is not copied while its IR grows.
+    program_.instructions.reserve(opt_.sink ? opt_.sink_batch + 64
+                                            : std::min(total_lines_ + total_lines_ / 8 + 16, instruction_limit()));
     std::size_t f = 0, pc = 0;
     while (!done_) {
       const SourceFile& sf = *files_[f];
@@ -125,8 +142,15 @@ class ProgramReader {
         }
         break;
       }
-      if (++blocks_ > opt_.max_blocks) {
-        add_error(f, pc, 1, fmt::format("the program runs more than {} blocks (endless loop?): stopping here", opt_.max_blocks));
+      if (++blocks_ > block_limit()) {
+        add_error(f, pc, 1, fmt::format("the program runs more than {} blocks (endless loop?): stopping here", block_limit()));
+        done_ = true;
+        break;
+      }
+      if (opt_.sink && program_.instructions.size() >= opt_.sink_batch) flush_to_sink();
+      if (instructions_made() > instruction_limit()) {
+        add_error(f, pc, 1, fmt::format("the program makes more than {} instructions (endless loop?): stopping here",
+                                        instruction_limit()));
         done_ = true;
         break;
       }
@@ -138,6 +162,7 @@ class ProgramReader {
       }
     }
     finish();
+    if (opt_.sink) flush_to_sink();
     ParseResult r;
     std::stable_sort(diags_.begin(), diags_.end(), [&](const core::Diagnostic& a, const core::Diagnostic& b) {
       const auto fa = file_rank(a.file), fb = file_rank(b.file);
@@ -158,11 +183,27 @@ class ProgramReader {
     return program_.files.size();
   }
 
+  // The work limits (ParseOptions): one pass over every line read, plus what loops and calls add.
+  std::size_t block_limit() const { return total_lines_ + opt_.max_blocks; }
+  std::size_t instruction_limit() const { return 2 * total_lines_ + opt_.max_instructions; }
+  std::size_t instructions_made() const { return sunk_ + program_.instructions.size(); }
+
+  // Streaming: the instructions so far to the sink; the list keeps its capacity for the next batch.
+  void flush_to_sink() {
+    if (program_.instructions.empty()) return;
+    opt_.sink(program_);
+    sunk_ += program_.instructions.size();
+    program_.instructions.clear();
+  }
+
   std::size_t add_file(const std::string& path, std::string text) {
     auto sf = std::make_unique<SourceFile>();
     sf->path = path;
     sf->text = std::move(text);
     std::string_view t = sf->text;
+    std::size_t newlines = 0;
+    for (const char c : t) newlines += c == '\n';  // a loop the compiler vectorises (std::count is not)
+    sf->lines.reserve(newlines + 1);
     std::size_t pos = 0;
     while (pos <= t.size()) {
       const std::size_t nl = t.find('\n', pos);
@@ -171,6 +212,7 @@ class ProgramReader {
       if (nl == std::string_view::npos) break;
       pos = nl + 1;
     }
+    total_lines_ += sf->lines.size();
     std::vector<IndexError> errs;
     sf->flow = index_flow(sf->lines, errs);
     files_.push_back(std::move(sf));
@@ -183,7 +225,13 @@ class ProgramReader {
 
   void read_line(std::size_t f, std::size_t pc) {
     const std::string_view line = files_[f]->lines[pc];
-    lex_line(line, params_, lexed_);
+    if (opt_.fast_path && fast_straight_block(line, state_, fast_)) {
+      seen_block_ = true;
+      position_params_stale_ = true;
+      if (fast_.op) put(Instruction{core::SourceLoc{static_cast<std::uint16_t>(f), line_no(pc), fast_.col}, std::move(*fast_.op)});
+      return;
+    }
+    lex(line);
     if (lexed_.kind == LineKind::Percent) {
       // A '%' before any block opens the program; any later one closes it: the rest is not read.
       if (f == 0 && frames_.size() == 1) {
@@ -216,13 +264,16 @@ class ProgramReader {
     }
     if (auto e = check_block(lexed_.words, mtable(), block_)) return fail(f, pc, line, std::move(*e));
     out_.clear();
+    // Canned cycles check their repeats and pecks against what is left of the instruction budget.
+    const std::size_t made = instructions_made();
+    interp_.max_ops = made < instruction_limit() ? instruction_limit() - made : 0;
     const core::Vec before = state_.position;
     if (auto e = execute(block_, state_, params_, interp_, out_)) return fail(f, pc, line, std::move(*e));
     emit_messages(f, pc, block_.col);
     for (const auto& [n, v] : out_.param_writes) params_.set(n, v);
     if (out_.m66) params_.set_runtime_only(kM66Result);
     deliver(core::SourceLoc{static_cast<std::uint16_t>(f), line_no(pc), block_.col}, before);
-    update_position_parameters();
+    position_params_stale_ = true;
     if (state_.ended && frames_.size() > 1) done_ = true;  // M2/M30 in a subroutine ends everything
   }
 
@@ -261,6 +312,16 @@ class ProgramReader {
     for (auto& i : comp_out_) program_.instructions.push_back(std::move(i));
   }
 
+  // Lexes a line with the parameters up to date. Only a line with a '#' can read a parameter, so
+  // the position parameters (#5420…) are brought up to date only then, not after every block.
+  void lex(std::string_view line) {
+    if (position_params_stale_ && std::memchr(line.data(), '#', line.size())) {
+      update_position_parameters();
+      position_params_stale_ = false;
+    }
+    lex_line(line, params_, lexed_);
+  }
+
   void update_position_parameters() {
     const core::Vec p = to_program(state_, state_.position);
     for (std::size_t a = 0; a < core::kMaxAxes; ++a) params_.set(kCurrentPosition + static_cast<int>(a), p[a]);
@@ -279,7 +340,7 @@ class ProgramReader {
 
   // Evaluates the O-word line (its [values]); false (reported) when it has an error.
   bool eval_o(std::size_t f, std::size_t pc, OWord& out) {
-    lex_line(files_[f]->lines[pc], params_, lexed_);
+    lex(files_[f]->lines[pc]);
     if (lexed_.error) {
       add_error(f, pc, lexed_.error->col, std::move(lexed_.error->message));
       return false;
@@ -495,6 +556,14 @@ class ProgramReader {
       if (look(i)) return true;
     std::string base = name;
     if (base.size() >= 2 && base.front() == '<') base = base.substr(1, base.size() - 2);
+    // A call in a loop to a missing subroutine would search the disk on every pass.
+    const auto not_found = [&] {
+      return fmt::format("subroutine o{} is not defined in the program, and no {}.ngc on the subroutine path", name, base);
+    };
+    if (missing_subs_.count(name)) {
+      why = not_found();
+      return false;
+    }
     std::vector<std::string> dirs = opt_.subroutine_path;
     dirs.push_back(main_dir_);
     for (const auto& d : dirs) {
@@ -511,7 +580,8 @@ class ProgramReader {
       why = fmt::format("{} does not define o{} sub", path, name);
       return false;
     }
-    why = fmt::format("subroutine o{} is not defined in the program, and no {}.ngc on the subroutine path", name, base);
+    missing_subs_.insert(name);
+    why = not_found();
     return false;
   }
 
@@ -598,13 +668,18 @@ class ProgramReader {
   std::vector<CallFrame> frames_;
   std::string main_dir_;
   LexedLine lexed_;
+  FastBlock fast_;
   Block block_;
   BlockOutput out_;
   core::Diagnostics diags_;
   std::optional<core::Diagnostic> note_;
   std::unordered_set<std::string> seen_;
+  std::unordered_set<std::string> missing_subs_;  // searched for and not found: not searched again
   std::size_t errors_ = 0;
   std::size_t blocks_ = 0;
+  std::size_t total_lines_ = 0;  // of every file read
+  std::size_t sunk_ = 0;         // instructions handed to ParseOptions::sink
+  bool position_params_stale_ = true;
   bool seen_block_ = false;
   bool percent_open_ = false;
   bool back_edge_ = false;
@@ -614,7 +689,7 @@ class ProgramReader {
 }  // namespace
 
 ParseResult parse(std::string_view text, const std::string& file_name, const ParseOptions& opt) {
-  return ProgramReader(file_name, opt).run(text);
+  return ProgramReader(file_name, opt).run(std::string(text));
 }
 
 ParseResult parse_file(const std::string& path, const ParseOptions& opt) {
@@ -624,7 +699,7 @@ ParseResult parse_file(const std::string& path, const ParseOptions& opt) {
     r.diagnostics.push_back(make_diag(path, 0, 0, core::Severity::Error, *err));
     return r;
   }
-  return parse(text, path, opt);
+  return ProgramReader(path, opt).run(std::move(text));
 }
 
 }  // namespace softmc::program::iso

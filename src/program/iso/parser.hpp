@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -22,9 +23,26 @@ struct ParseOptions {
   const ToolTable* tools = nullptr;  // for H and D words; null = no tool table
   const MTable* m_table = nullptr;   // P-10 groups incl. user M functions; null = the fixed table
   double g23_tolerance_mm = 0.05;    // G23 = G64 P<this> (plc_interface.md P-12)
+  // Work limits. Every line of the files read may run once; loops and calls may add `max_blocks`
+  // more executed blocks, and the program may make two instructions per line plus
+  // `max_instructions` more (loops, canned-cycle repeats and pecks). Any input therefore ends in a
+  // time and memory proportional to its length plus a constant (about 0.2 s and 300 MB at most
+  // for a short program); passing a limit is an error. docs/gcode.md lists them.
   std::size_t max_loop_iterations = 100000;  // per loop entry: more is an endless loop
-  std::size_t max_blocks = 10000000;         // blocks executed in all (loops unrolled): bounds the time
+  std::size_t max_blocks = 1000000;          // executed blocks beyond one pass over the text
+  std::size_t max_instructions = 1000000;    // instructions beyond two per line of text
   std::size_t max_call_depth = 32;           // nested subroutine calls
+  // Plain straight-move lines take a one-pass path (fast_block.hpp) with the same result; off, every
+  // line goes through the lexer, block check and interpreter (the fuzz target compares the two).
+  bool fast_path = true;
+
+  // Streaming (optional): when set, the instructions go to `sink` in batches of about `sink_batch`
+  // while the program is read, instead of into ParseResult::program (whose instruction list then
+  // stays empty; files and start are filled in). The batch's `files` are those known so far. The
+  // sink still sees instructions of a program that turns out to have errors: a caller that must
+  // act only on good programs keeps what it gets until parse() has returned without errors.
+  std::function<void(const Program& batch)> sink;
+  std::size_t sink_batch = 4096;
 };
 
 struct ParseResult {

@@ -130,7 +130,9 @@ TEST(IsoCutterComp, T3_RoundedRectangleKerfOutside) {
     EXPECT_NEAR(a.center1, kCentres[k][1], kTol);
     EXPECT_NEAR(std::hypot(a.end[0] - a.center0, a.end[1] - a.center1), 10.5, kTol) << k;
     EXPECT_EQ(a.turns, 1);
-    if (k < 3) EXPECT_TRUE(at_xy(std::get<Linear>(m[3 + 2 * k].op).end, kLineEnds[k][0], kLineEnds[k][1])) << k;
+    if (k < 3) {
+      EXPECT_TRUE(at_xy(std::get<Linear>(m[3 + 2 * k].op).end, kLineEnds[k][0], kLineEnds[k][1])) << k;
+    }
   }
   EXPECT_TRUE(at_xy(std::get<Arc>(m[8].op).end, 20, 9.5));
   // The torch M functions stay in program order around the moves.
@@ -264,19 +266,71 @@ TEST(IsoCutterComp, PlungesStayAtTheToolOffsetAndKeepOrder) {
   EXPECT_DOUBLE_EQ(std::get<Linear>(run.out[4].op).end[2], -2.0);
 }
 
-TEST(IsoCutterComp, StartTwiceAndArcEntryAreRefused) {
+TEST(IsoCutterComp, StartTwiceIsRefusedAndAShortEntryArcToo) {
   CutterComp c;
   EXPECT_FALSE(c.start(CompSide::Left, 1, 0, 1, core::Vec{}));
   EXPECT_TRUE(c.start(CompSide::Left, 1, 0, 1, core::Vec{}));
   std::vector<Instruction> out;
-  Arc a;
-  a.end = xyz(10, 0);
-  a.center0 = 5;
-  a.turns = 1;
+  Arc a;  // an entry arc (clockwise: the tool outside it) whose chord is not longer than the tool radius
+  a.end = xyz(0.5, 0.5);
+  a.center0 = 0.5;
+  a.turns = -1;
   const auto e = c.push(Instruction{{0, 7, 3}, a}, out);
   ASSERT_TRUE(e);
   EXPECT_EQ(e->loc.line, 7u);
+  EXPECT_NE(e->message.find("entry arc"), std::string::npos) << e->message;
   EXPECT_TRUE(out.empty());
+}
+
+// LinuxCNC 2.9 (convert_arc_comp1) allows an arc as the entry move: it ends at the programmed end
+// moved by the tool radius along the radius (inside: towards the centre), about a centre moved
+// along that radius so that the arc starts at the tool: a true arc, no spiral. Same numbers as
+// rs274 prints for tests/golden/iso/plasma_arc_leadin.ngc (its hole).
+TEST(IsoCutterComp, ArcEntryMovesTheCentreLikeLinuxCnc) {
+  const auto p = parse_ok("G21 G90 G17\nG0 X30 Y20\nF600\nG41.1 D4\nG3 X30 Y12 I0 J-4\nG3 X30 Y12 I0 J8\n"
+                          "G3 X34 Y16 I0 J4\nG40\nM30\n");
+  const auto m = motions(p.instructions);
+  ASSERT_EQ(m.size(), 4u);
+  const auto& entry = std::get<Arc>(m[1].op);
+  EXPECT_TRUE(at_xy(entry.end, 30, 14));
+  EXPECT_NEAR(entry.center0, 30, kTol);
+  EXPECT_NEAR(entry.center1, 17, kTol);
+  EXPECT_EQ(entry.turns, 1);
+  // A true arc: the tool's start and the end are equally far from the centre.
+  EXPECT_NEAR(std::hypot(30 - entry.center0, 20 - entry.center1),
+              std::hypot(entry.end[0] - entry.center0, entry.end[1] - entry.center1), kTol);
+  const auto& circle = std::get<Arc>(m[2].op);  // the hole, radius 8 - 2, tangent to the entry
+  EXPECT_TRUE(at_xy(circle.end, 30, 14));
+  EXPECT_NEAR(circle.center1, 20, kTol);
+  EXPECT_TRUE(at_xy(std::get<Arc>(m[3].op).end, 32, 16));  // lead-out, radius 4 - 2
+}
+
+// An outside entry arc (G42, clockwise quarter onto the bottom edge of a part): the centre moves
+// below the programmed one, as rs274 prints (ARC_FEED(0, -0.75, 0, -6.8036, -1)).
+TEST(IsoCutterComp, OutsideArcEntryMatchesRs274) {
+  const auto p = parse_ok("G21 G90 G17\nG0 X-6 Y-6\nF2400\nG42.1 D1.5\nG2 X0 Y0 I6 J0\nG1 X60 Y0\nG40\nM30\n");
+  const auto m = motions(p.instructions);
+  ASSERT_GE(m.size(), 3u);
+  const auto& entry = std::get<Arc>(m[1].op);
+  EXPECT_TRUE(at_xy(entry.end, 0, -0.75));
+  EXPECT_NEAR(entry.center0, 0, 1e-4);
+  EXPECT_NEAR(entry.center1, -6.8036, 1e-4);
+  EXPECT_LT(entry.turns, 0);
+  EXPECT_TRUE(at_xy(std::get<Linear>(m[2].op).end, 60, -0.75));
+}
+
+// A G0/G1 with no axis words moves nothing, with and without compensation (rs274 prints a
+// zero-length STRAIGHT_FEED for it; softmc makes no instruction: there is no geometry to plan).
+TEST(IsoCutterComp, BareG1MakesNoMove) {
+  const auto with = parse_ok("G21 G90 G17\nG0 X0 Y0\nF600\nG41.1 D4\nG1 X20 Y0\nG1\nG1 X20 Y20\nG1\nG40\nM30\n");
+  const auto without = parse_ok("G21 G90 G17\nG0 X0 Y0\nF600\nG1 X20 Y0\nG1\nG0\nG1 X20 Y20\nG1\nM30\n");
+  for (const auto* p : {&with, &without}) {
+    for (const auto& ins : p->instructions) {
+      EXPECT_NE(ins.loc.line, 6u) << dump(*p);
+      EXPECT_NE(ins.loc.line, 8u) << dump(*p);
+    }
+  }
+  EXPECT_EQ(motions(without.instructions).size(), 3u);
 }
 
 // An error leaves the stage unchanged: the same stage accepts a good move afterwards.
