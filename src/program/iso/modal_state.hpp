@@ -25,6 +25,7 @@ struct ModalState {
   double feed_word = 0;             // F as written (G93: inverse minutes)
   bool feed_in_block = false;       // G93: this block had its own F
   PathMode path;                    // G61 at start
+  bool path_programmed = false;     // a path word has been emitted (the machine's default applies until then)
 
   core::Vec position;  // machine coordinates, mm (rotary axes in degrees)
 

@@ -400,3 +400,12 @@ TEST(IsoCutterComp, G41RoutesMovesThroughTheCompensationStage) {
   EXPECT_EQ(one_error("G41.1 D2\nG81 X1 Z-1 R1 F60\n"),
             "t.ngc:2:1: error: canned cycles cannot run with cutter radius compensation on (G40 first)");
 }
+
+TEST(Iso, P12_FirstPathWordIsAlwaysEmitted) {
+  // G61 equals the interpreter's initial state, but the machine's default (blending) applies until
+  // the program names a mode: the first G61 must reach the channel; a repeated one need not.
+  const auto p = parse_ok("G61\nG1 X10 F100\nG61\nG1 Y10\n");
+  const auto modes = all<PathMode>(p);
+  ASSERT_EQ(modes.size(), 1u);
+  EXPECT_EQ(modes[0].kind, PathKind::ExactPath);
+}
