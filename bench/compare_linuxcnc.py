@@ -11,8 +11,9 @@
 # Printed per program: execution times, their ratio, limit violations and path deviation.
 #
 # Measured the same way on both traces (positions every 1 ms):
-#   violations  samples whose per-axis speed (first difference) or acceleration (second difference)
-#               exceeds the axis limit by more than 1e-6 relative;
+#   violations  samples whose per-axis speed (first difference), acceleration (second difference)
+#               or, on the jerk run, jerk (third difference) exceeds the axis limit by more than
+#               1e-6 relative, counted per kind;
 #               (plus the noise the CSV's rounding puts into the differences: 9 digits);
 #   deviation   largest distance of a sample from the programmed path (lines and arcs of the
 #               program as `softmc moves` reads it, arcs as polylines with chord error < 1e-4 mm),
@@ -169,7 +170,7 @@ def quantum(csv_path):
     return None  # significant digits: per sample, from the magnitude
 
 
-def violations(pos, dt, vel, acc, q):
+def violations(pos, dt, vel, acc, q, jerk=0.0):
     if q is None:  # 9 significant digits
         mag = np.maximum(np.abs(pos), 1e-3)
         qs = 0.5 * 10.0 ** (np.floor(np.log10(mag)) - 8)
@@ -181,7 +182,13 @@ def violations(pos, dt, vel, acc, q):
     na_allow = 4 * np.maximum(np.maximum(qs[2:], qs[1:-1]), qs[:-2]) / dt ** 2
     nv = int(np.sum(np.any(np.abs(v) > vel * (1 + 1e-6) + nv_allow, axis=1)))
     na = int(np.sum(np.any(np.abs(a) > acc * (1 + 1e-6) + na_allow, axis=1)))
-    return nv, na, float(np.max(np.abs(v))), float(np.max(np.abs(a)))
+    # Jerk (third difference, noise ±8q/dt³) only where a jerk limit was asked for.
+    nj = 0
+    if jerk > 0:
+        j = np.diff(a, axis=0) / dt
+        nj_allow = 8 * np.maximum.reduce([qs[3:], qs[2:-1], qs[1:-2], qs[:-3]]) / dt ** 3
+        nj = int(np.sum(np.any(np.abs(j) > jerk * (1 + 1e-6) + nj_allow, axis=1)))
+    return nv, na, nj, float(np.max(np.abs(v))), float(np.max(np.abs(a)))
 
 
 def main():
@@ -217,8 +224,9 @@ def main():
             t, pos = run_softmc(exe, prog, csv, softmc_sets(args.vel, args.acc, jerk, args.tol, args.lookahead))
             runs.append((tag, t, pos, csv))
         for tag, t, pos, csv in runs:
-            nv, na, vmax, amax = violations(pos, dt, args.vel, args.acc, quantum(csv))
-            res[tag] = {"time_s": t, "v_viol": nv, "a_viol": na, "v_max": vmax, "a_max": amax,
+            nv, na, nj, vmax, amax = violations(pos, dt, args.vel, args.acc, quantum(csv),
+                                                args.jerk if tag == "jerk" else 0.0)
+            res[tag] = {"time_s": t, "v_viol": nv, "a_viol": na, "j_viol": nj, "v_max": vmax, "a_max": amax,
                         "dev_mm": path_deviation(path, pos), "rest_dev_mm": rest_deviation(rests, pos)}
         rows.append(res)
         print(json.dumps(res), file=sys.stderr)
@@ -226,18 +234,20 @@ def main():
     print(f"\nvel {args.vel} mm/s, acc {args.acc} mm/s^2 per axis; G64 P{args.tol} unless the program sets one; "
           f"softmc jerk run: {args.jerk} mm/s^3")
     hdr = f"{'program':<12} {'LinuxCNC s':>10} {'softmc s':>9} {'ratio':>6} {'jerk s':>8} " \
-          f"{'viol L/s/j (v+a)':>17} {'dev mm L/s/j':>20} {'end dev mm L/s/j':>23}"
+          f"{'viol v,a L/s/j':>20} {'jerk viol j':>11} {'dev mm L/s/j':>20} {'end dev mm L/s/j':>23}"
     print(hdr)
     print("-" * len(hdr))
     for r in rows:
         l, s, j = r.get("lcnc"), r["trap"], r["jerk"]
         lt = f"{l['time_s']:.3f}" if l else "-"
         ratio = f"{s['time_s'] / l['time_s']:.3f}" if l else "-"
-        viol = "/".join(str(x["v_viol"] + x["a_viol"]) if x else "-" for x in (l, s, j))
+        viol = "/".join(f"{x['v_viol']},{x['a_viol']}" if x else "-" for x in (l, s, j))
         dev = "/".join(f"{x['dev_mm']:.3f}" if x else "-" for x in (l, s, j))
         rdev = "/".join(f"{x['rest_dev_mm']:.1e}" if x else "-" for x in (l, s, j))
-        print(f"{r['program']:<12} {lt:>10} {s['time_s']:>9.3f} {ratio:>6} {j['time_s']:>8.3f} {viol:>17} {dev:>20} {rdev:>23}")
-    print("viol: samples over a speed or acceleration limit; dev: largest distance from the programmed path; "
+        print(f"{r['program']:<12} {lt:>10} {s['time_s']:>9.3f} {ratio:>6} {j['time_s']:>8.3f} {viol:>20} "
+              f"{j['j_viol']:>11} {dev:>20} {rdev:>23}")
+    print("viol v,a: samples over a speed limit, over an acceleration limit; jerk viol: samples of the jerk run "
+          "over its jerk limit (third difference); dev: largest distance from the programmed path; "
           "end dev: largest distance of a programmed stop point from the trace (L = LinuxCNC, s = softmc, "
           "j = softmc with jerk limit)")
 

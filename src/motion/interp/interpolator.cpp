@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "motion/interp/jerk_guard.hpp"
+
 namespace softmc::motion {
 
 // rt-safe
@@ -18,10 +20,7 @@ void Interpolator::request_stop(StopKind kind) {
 }
 
 // rt-safe. Path speed the feed and override ask for on `b`, under its hard cap.
-double Interpolator::soft_speed(const Block& b) const {
-  if (b.rapid) return b.v_cap_mm_s * std::min(1.0, override_);
-  return std::min(b.v_cap_mm_s, b.feed_mm_s * override_);
-}
+double Interpolator::soft_speed(const Block& b) const { return motion::soft_speed(b, override_); }
 
 // rt-safe
 Interpolator::Inputs Interpolator::inputs(const Block& b) const {

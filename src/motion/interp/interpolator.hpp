@@ -85,7 +85,6 @@ class Interpolator {
   void replan(const Block& b, const Inputs& in);
   void rest_at_end();
   const Setpoint& step_jerk(double dt);
-  double hard_limit(const Block& b) const;
 
   PlanQueue& queue_;
   InterpolatorConfig config_;

@@ -1,9 +1,11 @@
 // Jerk mode of the interpolator: the online jerk-limited path speed over the look-ahead window.
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "motion/interp/interpolator.hpp"
 #include "motion/interp/jerk_follower.hpp"
+#include "motion/interp/jerk_guard.hpp"
 #include "motion/profile/jerk_ramp.hpp"
 
 namespace softmc::motion {
@@ -16,21 +18,12 @@ bool jerk_mode(const MachineLimits& lim) {
 
 namespace {
 constexpr double kEps_mm = 1e-9;
-constexpr double kEps_mm_s = 1e-9;
 
 // A block without a jerk limit (Trapezoid profile, axes with j = 0) reaches its acceleration in one cycle.
 double jerk_of(const Block& b, double dt) { return std::isfinite(b.j_mm_s3) ? b.j_mm_s3 : b.a_mm_s2 / dt; }
 
-struct Binding {
-  bool ok = true;
-  ProfileState act{};  // the strongest braking action among the violated limits
-  bool has_act = false;
-};
 }  // namespace
 
-// rt-safe. Entry speed limit of block b: its junction and its own hard cap. (Not the trapezoid backward
-// pass: its envelope assumes instant changes of acceleration; the follower checks every point ahead.)
-double Interpolator::hard_limit(const Block& b) const { return std::min(std::sqrt(b.v2_junction), b.v_cap_mm_s); }
 
 // rt-safe
 const Setpoint& Interpolator::step_jerk(double dt) {
@@ -49,7 +42,7 @@ const Setpoint& Interpolator::step_jerk(double dt) {
     const double near = vpk * (2 * a_c / j_c + 3 * dt) + kEps_mm;
     const double reach = vpk * dt * 1.5 + kEps_mm;
     double d = f.length - s_;
-    for (std::size_t k = 1; k < n && d < near; ++k) {
+    for (std::size_t k = 1; k < n && d < near && ring.at(k).v2_junction > 0; ++k) {
       const Block& b = ring.at(k);
       a_c = std::min(a_c, b.a_mm_s2);
       j_c = std::min(j_c, jerk_of(b, dt));
@@ -66,86 +59,59 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   j_now *= scale;
   const ProfileState now{0, v_, a_, 0};
 
-  // Can every limit ahead still be met from state x, reached after moving ds? When not, `act` is the
-  // strongest of the actions that would meet the violated ones (lowest speed after this cycle).
-  const auto check = [&](const ProfileState& x, double ds, bool want_action) {
-    Binding worst;
-    double a_run = a_now, j_run = j_now;
-    // Limits of just the blocks before k: a stop at the start of block k never enters k or beyond,
-    // so their (possibly lower) limits must not weaken the brake that lands on it — that is what
-    // missed a stop after a 0.015 mm block when a slower helix came within this cycle's reach.
-    double a_blk = f.a_mm_s2 * scale, j_blk = jerk_of(f, dt) * scale;
-    double d = f.length - s_;  // distance from now to the start of block k
-    const auto take = [&](const ProfileState& y) {
-      if (!worst.has_act || y.v < worst.act.v || (y.v == worst.act.v && y.a < worst.act.a)) worst.act = y;
-      worst.has_act = true;
-    };
-    if (x.v < -kEps_mm_s || inflection_speed(x.v, x.a, j_now) < -kEps_mm_s) worst.ok = false;  // would reverse
-    for (std::size_t k = 1; k <= n; ++k) {
-      const bool tail = k == n;
-      double u = 0, a_next = 0;
-      if (!tail) {
-        const Block& b = ring.at(k);
-        u = hard_limit(b);
-        a_next = b.a_mm_s2 * scale;
-        if (!h) {
-          const double soft = soft_speed(b);
-          if (soft > 0) u = std::min(u, soft);
-        }
-      }
-      const double left = d - ds;
-      const double a_brk = u <= 0 ? a_blk : a_run, j_brk = u <= 0 ? j_blk : j_run;
-      bool violated;
-      if (left <= kEps_mm) {
-        violated = std::max({v_, x.v, inflection_speed(x.v, x.a, j_brk)}) > u + kEps_mm_s;  // crossed now
-      } else {
-        violated = brake_distance(x.v, x.a, u, a_brk, j_brk, a_next) > left + kEps_mm;
-      }
-      if (violated) {
-        worst.ok = false;
-        if (want_action) {
-          if (u <= 0) {
-            ProfileState y = stop_step(now, d, std::max({v_, vt, 1e-6}), a_brk, j_brk, dt);
-            if (y.s > d) y.s = d;
-            take(y);
-            break;  // stopping here: nothing beyond this point matters
-          } else if (a_next < a_run) {
-            take(ramp_step(now, u, a_run, j_run, dt));
-          } else {
-            ProfileState y = brake_step(now, a_run, j_run, dt);
-            if (y.v < 0 || inflection_speed(y.v, y.a, j_run) < 0) y = ramp_step(now, 0, a_run, j_run, dt);
-            take(y);
-          }
-        }
-      }
-      if (tail) break;
-      // Beyond the distance a full stop needs (within the blocks passed so far), nothing binds.
-      if (left > 0 && left > brake_distance(x.v, x.a, 0, a_run, j_run, 0) + kEps_mm) break;
-      const Block& b = ring.at(k);
-      a_run = std::min(a_run, b.a_mm_s2 * scale);
-      j_run = std::min(j_run, jerk_of(b, dt) * scale);
-      a_blk = std::min(a_blk, b.a_mm_s2 * scale);
-      j_blk = std::min(j_blk, jerk_of(b, dt) * scale);
-      d += b.length;
+  // Candidates for this cycle, each taken only when the fallback brake π from where it ends still
+  // meets every limit ahead (JerkGuard): first the ramp towards the cruise speed; when that is
+  // refused, a position-mode stop on the point it missed, a ramp to the speed it missed, holding the
+  // acceleration, lowering it, and π itself — the fastest accepted one wins. π is always safe from
+  // an accepted state (the check of the previous cycle covered it), so it is also the last resort.
+  const JerkGuard guard(ring, n, s_, v_, dt, scale, h, override_);
+  PathStep step = ramp_cycle(now, vt, a_c, j_c, dt);
+  const GuardVerdict first = guard.verify(step);
+  if (first.failed()) {
+    std::array<PathStep, 4> cand{};
+    std::size_t m = 0;
+    if (first.stop_binds && first.fail_at_mm > 0) {
+      double a_s = 0, j_s = 0;
+      guard.limits_until(first.fail_at_mm, a_s, j_s);
+      const ProfileState y = stop_step(now, first.fail_at_mm, std::max({v_, vt, 1e-6}), a_s, j_s, dt);
+      PathStep st;
+      st.x = y;
+      st.j_abs = j_s;
+      st.a_abs = std::max(std::abs(now.a), std::abs(y.a));
+      st.v_peak = std::max({now.v, y.v, now.a > 0 ? inflection_speed(now.v, now.a, j_s) : now.v});
+      st.v_min = std::min(now.v, y.v);
+      cand[m++] = st;
+    } else if (first.fail_u_mm_s > 0 && first.fail_u_mm_s < v_) {
+      cand[m++] = ramp_cycle(now, first.fail_u_mm_s, a_c, j_c, dt);
     }
-    return worst;
-  };
-
-  // Accelerate (or cruise) when that stays safe; else the strongest action a violated limit asks for:
-  // stop exactly on a point of speed 0, ramp to a lower limit, or brake as hard as the limits allow.
-  ProfileState x = ramp_step(now, vt, a_c, j_c, dt);
-  const Binding bind = check(x, x.s, true);
-  if (!bind.ok) {
-    if (bind.has_act) {
-      x = bind.act;
-    } else {  // only a reversal was in the way
-      x = ramp_step(now, 0, a_now, j_now, dt);
+    cand[m++] = jerk_cycle(now, 0, dt);
+    cand[m++] = jerk_cycle(now, -j_now, dt);
+    // Faster first; at equal speed, farther (a stop landing on its point beats staying short of it).
+    const auto ahead = [](const PathStep& l, const PathStep& r) {
+      return l.x.v > r.x.v || (l.x.v == r.x.v && l.x.s > r.x.s);
+    };
+    std::sort(cand.begin(), cand.begin() + static_cast<std::ptrdiff_t>(m), ahead);
+    step = guard.brake_now(now);
+    for (std::size_t i = 0; i < m; ++i) {
+      if (!ahead(cand[i], step)) break;
+      if (!guard.verify(cand[i]).failed()) {
+        step = cand[i];
+        break;
+      }
     }
   }
+  ProfileState x = step.x;
   if (x.s < 0) x.s = 0;
   v_ = std::max(0.0, x.v);
   a_ = v_ == 0 && x.a < 0 ? 0.0 : x.a;
   s_ += x.s;
+  // At rest on a point to stop at (the position-mode stop lands on it up to the rounding of the
+  // distance from now): the block is done.
+  if (v_ <= 1e-9 && std::abs(a_) <= 1e-6 && f.length - s_ <= 1e-9) {
+    s_ = f.length;
+    v_ = 0;
+    a_ = 0;
+  }
 
   // Pass the blocks the cycle finished.
   for (int m = 0; m < config_.max_blocks_per_cycle && !ring.empty(); ++m) {

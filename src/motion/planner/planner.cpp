@@ -294,7 +294,7 @@ void Planner::commit(const Block& b) {
   if (ring.size() == 1) {
     nb.v2_junction = 0;  // the machine is at rest when the window is empty (its tail ends at rest)
   } else {
-    const Block& prev = ring.at(ring.size() - 2);
+    Block& prev = ring.at(ring.size() - 2);
     // Tangent junctions keep the speed both neighbours allow; any other corner that was not blended
     // (G61, arcs, reversals) is an exact stop: a direction change at speed needs infinite acceleration.
     // |t_out − t_in| is the turning angle (chord of unit vectors), without acos's loss near 0.
@@ -302,13 +302,26 @@ void Planner::commit(const Block& b) {
     const double cap = std::min(plan_cap_mm_s(prev), plan_cap_mm_s(nb));
     nb.v2_junction = turn <= config_.tangent_rad ? cap * cap : std::min(cap * cap, nb.v2_kink);
     // With jerk limits, a jump of the curvature vector (line into arc or blend) steps each axis's
-    // acceleration by v²·Δκ_i within one cycle: keep that step within j_i·dt.
+    // acceleration by v²·Δκ_i within one cycle, on top of the path's own jerk in that cycle: the
+    // step is kept within a share (kink_share) of j_i·dt, and both neighbours give up the share the
+    // step can actually take at the junction speed, so the two never add up past j_i.
     if (!std::isinf(nb.j_mm_s3) || !std::isinf(prev.j_mm_s3)) {
       const Vec dk = nb.curvature(0) - prev.curvature(prev.length);
+      const double dt = limits_.period_s;
       for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
         const double d = std::abs(dk[i]);
         if (d < 1e-12 || !(limits_.axis[i].j_max_mm_s3 > 0)) continue;
-        nb.v2_junction = std::min(nb.v2_junction, limits_.axis[i].j_max_mm_s3 * limits_.period_s / d);
+        nb.v2_junction = std::min(nb.v2_junction, config_.kink_share * limits_.axis[i].j_max_mm_s3 * dt / d);
+      }
+      double used = 0;  // largest share of an axis's jerk budget the step takes
+      for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
+        const double d = std::abs(dk[i]);
+        if (d < 1e-12 || !(limits_.axis[i].j_max_mm_s3 > 0)) continue;
+        used = std::max(used, nb.v2_junction * d / (limits_.axis[i].j_max_mm_s3 * dt));
+      }
+      if (used > 0) {
+        nb.j_mm_s3 *= 1 - used;
+        prev.j_mm_s3 *= 1 - used;
       }
     }
   }

@@ -1,0 +1,231 @@
+// The jerk follower's safety check: one-cycle steps with their bounds, and the simulated fallback brake.
+#include "motion/interp/jerk_guard.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "motion/profile/jerk_path.hpp"
+#include "motion/profile/jerk_ramp.hpp"
+
+namespace softmc::motion {
+
+namespace {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kRel = 1e-9;       // relative slack of every limit comparison (rounding)
+constexpr double kAbs = 1e-9;       // absolute slack (mm/s, mm/s², mm/s³)
+constexpr double kTouch_mm = 1e-12;  // as the interpolator passes blocks: s ≥ length − 1e-12
+constexpr int kMaxBrakeCycles = 200000;  // 200 s of braking at 1 ms: beyond, the state is refused
+
+bool over(double x, double lim) { return x > lim * (1 + kRel) + kAbs; }
+
+// Integrates phases of constant jerk over one cycle and keeps the bounds reached within it.
+struct Cycle {
+  PathStep st;
+  double left;
+  Cycle(const ProfileState& x0, double dt) : left(dt) {
+    st.x = x0;
+    st.x.s = 0;
+    st.x.j = 0;
+    st.a_abs = std::abs(x0.a);
+    st.v_peak = st.v_min = x0.v;
+  }
+  void take(const ProfileState& y) {
+    st.v_peak = std::max(st.v_peak, y.v);
+    st.v_min = std::min(st.v_min, y.v);
+    st.a_abs = std::max(st.a_abs, std::abs(y.a));
+  }
+  void phase(double dur, double j) {
+    if (left <= 0 || !(dur > 0)) return;
+    const double t = std::min(dur, left);
+    if (j != 0) {  // the speed's extreme inside the phase, where a crosses 0
+      const double ts = -st.x.a / j;
+      if (ts > 0 && ts < t) take(advance(st.x, j, ts));
+    }
+    st.x = advance(st.x, j, t);
+    st.j_abs = std::max(st.j_abs, std::abs(j));
+    left -= t;
+    take(st.x);
+  }
+  void hold_rest(double v, double a) {  // the rest of the cycle at (v, a = 0) exactly
+    st.x.v = v;
+    st.x.a = a;
+    st.x.j = 0;
+    if (left > 0) st.x.s += v * left;
+    left = 0;
+    take(st.x);
+  }
+};
+}  // namespace
+
+// rt-safe
+double soft_speed(const Block& b, double feed_override) {
+  if (b.rapid) return b.v_cap_mm_s * std::min(1.0, feed_override);
+  return std::min(b.v_cap_mm_s, b.feed_mm_s * feed_override);
+}
+
+// rt-safe
+PathStep ramp_cycle(const ProfileState& x, double vt, double a_max, double j_max, double dt) {
+  Cycle c(x, dt);
+  if (std::abs(c.st.x.a) > a_max) c.phase((std::abs(c.st.x.a) - a_max) / j_max, c.st.x.a > 0 ? -j_max : j_max);
+  if (c.left <= 0) return c.st;
+  c.st.x.a = std::clamp(c.st.x.a, -a_max, a_max);
+  const Ramp r = plan_ramp(c.st.x.v, c.st.x.a, vt, a_max, j_max);
+  c.phase(r.t1, r.dir * r.j);
+  c.phase(r.t2, 0);
+  c.phase(r.t3, -r.dir * r.j);
+  if (c.left > 0) c.hold_rest(vt, 0);  // exactly the target once there
+  return c.st;
+}
+
+// rt-safe
+PathStep jerk_cycle(const ProfileState& x, double j, double dt) {
+  Cycle c(x, dt);
+  c.phase(dt, j);
+  return c.st;
+}
+
+JerkGuard::JerkGuard(const core::Ring<Block>& ring, std::size_t n, double s_front, double v_now, double dt,
+                     double scale, bool halt, double feed_override)
+    : ring_(ring), n_(n), s_front_(s_front), v_now_(v_now), dt_(dt), scale_(scale), halt_(halt),
+      override_(feed_override) {}
+
+double JerkGuard::acc(std::size_t k) const { return ring_.at(k).a_mm_s2 * scale_; }
+
+// A block without a jerk limit (Trapezoid profile, axes with j = 0) reaches its acceleration in one cycle.
+double JerkGuard::jerk(std::size_t k) const {
+  const Block& b = ring_.at(k);
+  return (std::isfinite(b.j_mm_s3) ? b.j_mm_s3 : b.a_mm_s2 / dt_) * scale_;
+}
+
+double JerkGuard::soft(std::size_t k) const {
+  if (halt_) return kInf;
+  double s = soft_speed(ring_.at(k), override_);
+  if (!(s > 0)) return kInf;  // override 0: the ramp to the cruise speed 0 stops the path
+  if (k == 0) s = std::max(s, v_now_);  // already faster (the override dropped): only the ramp down is asked
+  return s;
+}
+
+bool JerkGuard::fail(GuardVerdict& v, bool hard, double at, double u, bool stop) const {
+  if (!v.failed()) {
+    v.fail_at_mm = at;
+    v.fail_u_mm_s = u;
+    v.stop_binds = stop;
+  }
+  (hard ? v.hard_ok : v.soft_ok) = false;
+  return false;
+}
+
+void JerkGuard::limits_until(double to_mm, double& a_min, double& j_min) const {
+  a_min = acc(0);
+  j_min = jerk(0);
+  double start = ring_.at(0).length - s_front_;
+  for (std::size_t k = 1; k < n_ && start < to_mm - kTouch_mm && ring_.at(k).v2_junction > 0; ++k) {
+    a_min = std::min(a_min, acc(k));
+    j_min = std::min(j_min, jerk(k));
+    start += ring_.at(k).length;
+  }
+}
+
+// rt-safe. The cycle from p0 (in block c.k) to p0 + st.x.s against every block it touches; moves c
+// to the block the cycle ends in. False at the first broken limit.
+bool JerkGuard::check(Cursor& c, double p0, double v0, const PathStep& st, GuardVerdict& verdict) const {
+  (void)v0;
+  const double p1 = p0 + st.x.s;
+  if (st.v_min < -kAbs) return fail(verdict, true, p0, 0, false);  // the path would reverse
+  for (;;) {
+    const std::size_t k = c.k;
+    const Block& b = ring_.at(k);
+    const double here = std::max(p0, c.start);
+    if (over(st.j_abs, jerk(k)) || over(st.a_abs, acc(k)) || over(st.v_peak, b.v_cap_mm_s))
+      return fail(verdict, true, here, b.v_cap_mm_s, false);
+    if (over(st.v_peak, soft(k))) return fail(verdict, false, here, soft(k), false);
+    const double end = c.start + b.length;
+    if (p1 < end - kTouch_mm) return true;  // the cycle ends inside block k
+    const bool cross = p1 > end + kTouch_mm;
+    if (k + 1 >= n_) {  // the end of the window (or of the horizon): a point to stop at
+      if (cross || st.x.v > kAbs) return fail(verdict, true, end, 0, true);
+      return true;
+    }
+    const Block& nb = ring_.at(k + 1);
+    const double u = std::sqrt(nb.v2_junction);
+    if (u <= 0) {  // an exact stop: reached at rest, never crossed
+      if (cross || st.x.v > kAbs) return fail(verdict, true, end, 0, true);
+    } else if (over(cross ? st.v_peak : st.x.v, u)) {
+      return fail(verdict, true, end, u, false);
+    }
+    c = {k + 1, end};
+    if (!cross) {  // lands on the start of k + 1: its limits hold from here
+      if (over(std::abs(st.x.a), acc(k + 1)) || over(st.x.v, nb.v_cap_mm_s)) return fail(verdict, true, end, u, false);
+      if (over(st.x.v, soft(k + 1))) return fail(verdict, false, end, soft(k + 1), false);
+      return true;
+    }
+  }
+}
+
+// rt-safe. π: one cycle of the time-optimal ramp to rest, with
+//  - the jerk of every block the rest of the brake may run through (the release at its end must not
+//    meet a block allowing less jerk than it was planned with: the brake's reach only shrinks as it
+//    goes on, so the jerk it plans with only rises);
+//  - the acceleration of the blocks this cycle can reach, and |a| lowered ahead of blocks allowing
+//    less: reaching block m at distance d takes at least d/v_up, in which a can rise by
+//    J·(d/v_up − dt) (one cycle lost to sampling).
+// A brake never enters a block behind an exact stop: those limits do not apply.
+PathStep JerkGuard::brake(const ProfileState& x, double p, const Cursor& c) const {
+  double j_eff = jerk(c.k), a_eff = acc(c.k);
+  const double v_up = x.a > 0 ? x.v + x.a * x.a / (2 * j_eff) : std::max(0.0, x.v);
+  if (v_up > 0) {
+    const double reach = v_up * dt_ + kTouch_mm;
+    const double first = c.start + ring_.at(c.k).length;  // start of block c.k + 1
+    const double scan = std::max(reach, v_up * (std::abs(x.a) / j_eff + 2 * dt_));
+    double start = first;
+    for (std::size_t k = c.k + 1; k < n_ && start - p < scan && ring_.at(k).v2_junction > 0; ++k) {
+      if (start - p < reach) {
+        a_eff = std::min(a_eff, acc(k));
+        j_eff = std::min(j_eff, jerk(k));
+      } else {
+        a_eff = std::min(a_eff, acc(k) + j_eff * ((start - p) / v_up - dt_));
+      }
+      start += ring_.at(k).length;
+    }
+    a_eff = std::max(a_eff, 1e-9);
+    double horizon = reach;
+    for (int it = 0; it < 4; ++it) {
+      const double a0 = std::clamp(x.a, -a_eff, a_eff);
+      const double d = ramp_end({0, x.v, a0, 0}, plan_ramp(x.v, a0, 0, a_eff, j_eff)).s +
+                       v_up * (std::abs(x.a) / j_eff + 2 * dt_);
+      if (!(d > horizon)) break;
+      double j_new = j_eff;
+      start = first;
+      for (std::size_t k = c.k + 1; k < n_ && start - p < d && ring_.at(k).v2_junction > 0; ++k) {
+        j_new = std::min(j_new, jerk(k));
+        start += ring_.at(k).length;
+      }
+      horizon = d;
+      if (j_new == j_eff) break;
+      j_eff = j_new;
+    }
+  }
+  a_eff = std::max(a_eff, 1e-9);
+  return ramp_cycle(x, 0, a_eff, j_eff, dt_);
+}
+
+// rt-safe
+GuardVerdict JerkGuard::verify(const PathStep& step) const {
+  GuardVerdict v;
+  Cursor c{0, -s_front_};
+  if (!check(c, 0, v_now_, step, v) || v.failed()) return v;
+  double p = step.x.s;
+  ProfileState x = step.x;
+  for (int i = 0; i < kMaxBrakeCycles; ++i) {
+    if (std::abs(x.v) <= 1e-12 && std::abs(x.a) <= 1e-9) return v;  // at rest: it may stay
+    const PathStep b = brake(x, p, c);
+    if (!check(c, p, x.v, b, v) || v.failed()) return v;
+    p += b.x.s;
+    x = b.x;
+  }
+  v.hard_ok = false;
+  return v;
+}
+
+}  // namespace softmc::motion

@@ -1,0 +1,86 @@
+// Safety of a jerk-limited path state: a cycle's step is taken only when, from where it ends, the
+// fallback brake π still meets every limit ahead (docs/planner.md, "Jerk").
+//
+//   now ──step──► x ──π──π──π──…──► rest        π: one cycle of the time-optimal ramp to speed 0,
+//   (candidate)      (simulated cycle by cycle      with the acceleration limit lowered ahead of
+//                     with the interpolator's dt)   blocks that allow less (anticipation)
+//
+// Every cycle of the simulation is checked against the blocks it touches: |jerk| ≤ J_k, |a| ≤ A_k,
+// v ≤ hard cap, v ≤ junction speed when crossing a block start, no crossing of a point to stop at
+// (exact stop, end of the window). π is a fixed (Markov) policy of the state and position, so the
+// first π step from an accepted state lands on the rest of the same, already checked, simulation:
+// once a state is accepted there is always a safe next step. Limits are never exceeded by design,
+// not by a distance model of the brake.
+#pragma once
+
+#include <cstddef>
+
+#include "core/ring.hpp"
+#include "motion/planner/block.hpp"
+#include "motion/profile/profile_state.hpp"
+
+namespace softmc::motion {
+
+// rt-safe. Path speed the feed and override ask for on `b`, under its hard cap (rapids: override ≤ 1).
+double soft_speed(const Block& b, double feed_override);
+
+// One cycle of path motion: the state it ends in (x.s = distance moved) and bounds within the cycle.
+struct PathStep {
+  ProfileState x{};
+  double j_abs = 0;   // largest |jerk| used
+  double a_abs = 0;   // largest |a| reached
+  double v_peak = 0;  // largest speed reached
+  double v_min = 0;   // smallest speed reached (< 0: the path would reverse)
+};
+
+// rt-safe. dt of the velocity ramp from x towards speed vt (|a| first brought within a_max), held
+// there once reached; x.s is the origin.
+PathStep ramp_cycle(const ProfileState& x, double vt, double a_max, double j_max, double dt);
+// rt-safe. dt at constant jerk j.
+PathStep jerk_cycle(const ProfileState& x, double j, double dt);
+
+struct GuardVerdict {
+  bool hard_ok = true;   // no hard limit broken (caps, junctions, acceleration, jerk, stops)
+  bool soft_ok = true;   // nor a soft one (feed × override)
+  bool stop_binds = false;  // the first failure is a point to stop at (exact stop, window end)
+  double fail_at_mm = 0;    // distance from now of the first failing limit
+  double fail_u_mm_s = 0;   // its speed limit
+  bool failed() const { return !hard_ok || !soft_ok; }
+};
+
+class JerkGuard {
+ public:
+  // `n` blocks of `ring` from the front (the rest is beyond the horizon: its start is a stop);
+  // `s_front` the distance into the front block, `v_now` the present speed (the front block's soft
+  // cap is relaxed to it: an override that dropped cannot be obeyed instantly); `scale` scales A, J.
+  JerkGuard(const core::Ring<Block>& ring, std::size_t n, double s_front, double v_now, double dt, double scale,
+            bool halt, double feed_override);
+
+  // rt-safe. Checks the step from now, then π from where it ends, cycle by cycle until rest.
+  GuardVerdict verify(const PathStep& step) const;
+  // rt-safe. One cycle of π from the present state.
+  PathStep brake_now(const ProfileState& now) const { return brake({now.s, now.v, now.a, 0}, 0, Cursor{0, -s_front_}); }
+  // Limits (scaled) of the blocks from the front up to distance `to_mm` from now.
+  void limits_until(double to_mm, double& a_min, double& j_min) const;
+
+  double acc(std::size_t k) const;
+  double jerk(std::size_t k) const;
+
+ private:
+  struct Cursor {
+    std::size_t k = 0;  // block containing the position
+    double start = 0;   // its start, distance from now
+  };
+  PathStep brake(const ProfileState& x, double p, const Cursor& c) const;
+  bool check(Cursor& c, double p0, double v0, const PathStep& st, GuardVerdict& verdict) const;
+  double soft(std::size_t k) const;
+  bool fail(GuardVerdict& v, bool hard, double at, double u, bool stop) const;
+
+  const core::Ring<Block>& ring_;
+  std::size_t n_;
+  double s_front_, v_now_, dt_, scale_;
+  bool halt_;
+  double override_;
+};
+
+}  // namespace softmc::motion
