@@ -19,6 +19,58 @@ void Channel::load(const program::Program& prog) {
   prog_ = &prog;
   state_ = ChannelState::Idle;
   pc_ = 0;
+  curve_next_ = 0;
+  // Curves are built from where the program's previous motion ends: walk the programmed geometry.
+  const auto n = prog.instructions.size();
+  curve_segments_.clear();
+  curve_first_.assign(n + 1, 0);
+  curve_error_.assign(n, nullptr);
+  core::Vec at = prog.start;
+  std::vector<motion::Segment> tmp;
+  for (std::size_t i = 0; i < n; ++i) {
+    curve_first_[i] = static_cast<std::uint32_t>(curve_segments_.size());
+    const auto& op = prog.instructions[i].op;
+    if (auto seg = to_segment(op, at)) {
+      at = seg->end;
+    } else if (is_curve(op)) {
+      tmp.clear();
+      if (const auto e = append_curve_segments(op, at, tmp); e != motion::CurveError::Ok) {
+        curve_error_[i] = motion::to_string(e);
+        continue;
+      }
+      curve_segments_.insert(curve_segments_.end(), tmp.begin(), tmp.end());
+      if (!tmp.empty()) at = tmp.back().end;
+    }
+  }
+  curve_first_[n] = static_cast<std::uint32_t>(curve_segments_.size());
+}
+
+// rt-safe
+bool Channel::push_curve(int& budget) {
+  const program::Op& op = prog_->instructions[pc_].op;
+  double feed = 0;
+  if (const auto* b = std::get_if<program::Bezier>(&op)) feed = b->feed_mm_s;
+  if (const auto* nb = std::get_if<program::Nurbs>(&op)) feed = nb->feed_mm_s;
+  const std::uint32_t first = curve_first_[pc_], last = curve_first_[pc_ + 1];
+  while (first + curve_next_ < last) {
+    if (planner_.queue().full() || budget <= 0) return false;
+    const auto& seg = curve_segments_[first + curve_next_];
+    motion::PathRequest req;
+    req.geom = seg;
+    req.feed_mm_s = feed;
+    req.tag = pc_;
+    req.tolerance_mm = path_tolerance_mm_;
+    const auto r = planner_.push(req);
+    if (r != motion::PlanResult::Ok) {
+      fail(motion::to_string(r), r);
+      return false;
+    }
+    plan_pos_ = seg.end;
+    ++curve_next_;
+    --budget;
+  }
+  curve_next_ = 0;
+  return true;
 }
 
 // rt-safe
@@ -62,6 +114,12 @@ void Channel::update(double dt_s) {
       // G61/G61.1: exact stop at every corner; G64 P (G23): blend within P, G64 alone: the default P.
       // A mode change needs no stop: it applies to the corners the following moves start with.
       path_tolerance_mm_ = pm->kind == program::PathKind::Blend ? (pm->tolerance_mm > 0 ? pm->tolerance_mm : -1.0) : 0.0;
+      ++pc_;
+      continue;
+    }
+    if (is_curve(op)) {
+      if (curve_error_[pc_]) return fail(curve_error_[pc_], motion::PlanResult::Infeasible);
+      if (!push_curve(budget)) return;  // wait for room (or a planning fault)
       ++pc_;
       continue;
     }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "motion/interp/interpolator.hpp"
 #include "motion/planner/planner.hpp"
@@ -21,6 +22,8 @@ class Channel {
   Channel(motion::Planner& planner, const motion::Interpolator& interp) : planner_(planner), interp_(interp) {}
 
   // Not rt: binds a checked program and resets the pointer. The program must outlive the run.
+  // Curves (G5/G5.1/G5.2) are expanded into segments here, because their construction allocates;
+  // a curve that cannot be built faults the channel when the program reaches it.
   void load(const program::Program& prog);
   // rt-safe: start from the first instruction (Idle or Finished), planning from `from`.
   bool start(const core::Vec& from);
@@ -40,6 +43,8 @@ class Channel {
 
  private:
   void fail(const char* message, motion::PlanResult r);
+  // rt-safe: pushes the precomputed segments of the curve at pc_; false while the queue is full.
+  bool push_curve(int& budget);
 
   motion::Planner& planner_;
   const motion::Interpolator& interp_;
@@ -54,6 +59,12 @@ class Channel {
   const char* fault_ = "";
   motion::PlanResult plan_error_ = motion::PlanResult::Ok;
   std::uint32_t fault_pc_ = 0;
+  // Precomputed curve segments: curve_first_[i] .. curve_first_[i + 1] are instruction i's
+  // (sized at load, one entry per instruction plus one).
+  std::vector<motion::Segment> curve_segments_;
+  std::vector<std::uint32_t> curve_first_;
+  std::vector<const char*> curve_error_;  // per instruction: why its curve could not be built, or null
+  std::uint32_t curve_next_ = 0;           // next segment of the current curve to push
 };
 
 }  // namespace softmc::control

@@ -1,6 +1,11 @@
 // IR → geometry.
 #include "control/path.hpp"
 
+#include <array>
+
+#include "motion/geometry/bezier.hpp"
+#include "motion/geometry/nurbs.hpp"
+
 namespace softmc::control {
 
 // rt-safe
@@ -10,6 +15,53 @@ std::optional<motion::Segment> to_segment(const program::Op& op, const core::Vec
   if (const auto* a = std::get_if<program::Arc>(&op))
     return motion::make_arc(from, a->end, a->axis0, a->axis1, a->center0, a->center1, a->turns);
   return std::nullopt;
+}
+
+bool is_curve(const program::Op& op) {
+  return std::holds_alternative<program::Bezier>(op) || std::holds_alternative<program::Nurbs>(op);
+}
+
+motion::CurveError append_curve_segments(const program::Op& op, const core::Vec& from,
+                                         std::vector<motion::Segment>& out) {
+  if (const auto* b = std::get_if<program::Bezier>(&op)) {
+    // G5 (cubic) or G5.1 (quadratic): the control polygon starts where the machine is.
+    std::array<core::Vec, 4> ctrl{from, b->ctrl1, b->ctrl2, b->end};
+    if (b->degree == 2) ctrl[2] = b->end;
+    const std::size_t n = b->degree == 2 ? 3 : 4;
+    const std::array<double, 4> w{1, 1, 1, 1};
+    return motion::append_rational_bezier(out, std::span(ctrl.data(), n), std::span(w.data(), n));
+  }
+  if (const auto* nb = std::get_if<program::Nurbs>(&op)) {
+    auto r = motion::nurbs_g5_2(nb->ctrl, nb->weights, nb->order);
+    if (!r.ok()) return r.error;
+    out.insert(out.end(), r.segments.begin(), r.segments.end());
+  }
+  return motion::CurveError::Ok;
+}
+
+ProgramGeometry program_geometry(const program::Program& prog) {
+  ProgramGeometry g;
+  core::Vec at = prog.start;
+  std::vector<motion::Segment> tmp;
+  for (std::uint32_t i = 0; i < prog.instructions.size(); ++i) {
+    const auto& op = prog.instructions[i].op;
+    if (auto seg = to_segment(op, at)) {
+      g.pieces.push_back({i, *seg});
+      at = seg->end;
+    } else if (is_curve(op)) {
+      tmp.clear();
+      if (const auto e = append_curve_segments(op, at, tmp); e != motion::CurveError::Ok) {
+        if (g.error == motion::CurveError::Ok) {
+          g.error = e;
+          g.error_instruction = i;
+        }
+        continue;
+      }
+      for (const auto& s : tmp) g.pieces.push_back({i, s});
+      if (!tmp.empty()) at = tmp.back().end;
+    }
+  }
+  return g;
 }
 
 }  // namespace softmc::control

@@ -2,7 +2,9 @@
 #pragma once
 
 #include <optional>
+#include <vector>
 
+#include "motion/geometry/curve_result.hpp"
 #include "motion/geometry/segment.hpp"
 #include "program/ir/program.hpp"
 
@@ -11,5 +13,28 @@ namespace softmc::control {
 // The segment a motion instruction describes when it starts at `from`; nothing for a non-motion op.
 // rt-safe.
 std::optional<motion::Segment> to_segment(const program::Op& op, const core::Vec& from);
+
+// True for the curve ops (G5/G5.1 Bezier, G5.2 NURBS) that become several segments.
+bool is_curve(const program::Op& op);
+
+// Appends the segments of a curve op that starts at `from` (not rt: the curve constructors
+// allocate, so a Channel expands its program's curves when it loads it). Returns the construction
+// error, or Ok; appends nothing for a non-curve op.
+motion::CurveError append_curve_segments(const program::Op& op, const core::Vec& from,
+                                         std::vector<motion::Segment>& out);
+
+// Every motion of a program as geometric segments, in program order, with the instruction each came
+// from (a curve gives several). Not rt. The first curve that cannot be built is returned as `error`
+// with its instruction index.
+struct ProgramGeometry {
+  struct Piece {
+    std::uint32_t instruction = 0;
+    motion::Segment segment;
+  };
+  std::vector<Piece> pieces;
+  motion::CurveError error = motion::CurveError::Ok;
+  std::uint32_t error_instruction = 0;
+};
+ProgramGeometry program_geometry(const program::Program& prog);
 
 }  // namespace softmc::control

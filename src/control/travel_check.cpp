@@ -15,12 +15,11 @@ core::Diagnostics check_travel(const program::Program& prog, const motion::Machi
   core::Diagnostics out;
   // A line inside a loop or subroutine yields many instructions: report each source location once.
   std::set<std::tuple<std::uint16_t, std::uint32_t, std::uint32_t>> reported;
-  core::Vec at = prog.start;
-  for (const auto& ins : prog.instructions) {
-    const auto seg = to_segment(ins.op, at);
-    if (!seg) continue;
+  const auto geo = program_geometry(prog);
+  for (const auto& piece : geo.pieces) {
+    const auto& ins = prog.instructions[piece.instruction];
     core::Vec lo, hi;
-    seg->bounds(lo, hi);
+    piece.segment.bounds(lo, hi);
     for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
       std::string what;
       if (!limits.present(i)) {
@@ -37,7 +36,11 @@ core::Diagnostics check_travel(const program::Program& prog, const motion::Machi
       out.push_back({prog.file_of(ins.loc), ins.loc.line, ins.loc.col, core::Severity::Error, std::move(what)});
       break;  // one message per instruction
     }
-    at = seg->end;
+  }
+  if (geo.error != motion::CurveError::Ok) {
+    const auto& ins = prog.instructions[geo.error_instruction];
+    out.push_back({prog.file_of(ins.loc), ins.loc.line, ins.loc.col, core::Severity::Error,
+                   fmt::format("the curve cannot be built: {}", motion::to_string(geo.error))});
   }
   return out;
 }

@@ -2,6 +2,7 @@
 #include "report/programmed_path.hpp"
 
 #include <algorithm>
+#include <limits>
 
 #include "control/path.hpp"
 
@@ -14,20 +15,24 @@ ProgrammedPath programmed_path(const program::Program& prog) {
   pp.before.resize(n);
   pp.after.resize(n);
   pp.start = prog.start;
+  // The same geometry the channel plans (curves expanded into several pieces).
+  const auto geo = control::program_geometry(prog);
+  std::size_t next_piece = 0;
   core::Vec pos = prog.start;
   bool tool_on = false;
   for (std::size_t i = 0; i < n; ++i) {
     const auto& op = prog.instructions[i].op;
     pp.before[i] = pos;
     if (const auto* t = std::get_if<program::ToolSwitch>(&op)) tool_on = t->on;
-    if (auto seg = control::to_segment(op, pos)) {
+    while (next_piece < geo.pieces.size() && geo.pieces[next_piece].instruction == i) {
       ProgrammedMove m;
       m.instruction = i;
       m.kind = std::holds_alternative<program::Rapid>(op) ? MoveKind::Rapid : tool_on ? MoveKind::Cut : MoveKind::Feed;
-      m.segment = *seg;
-      pos = seg->end;
-      pp.move_of[i] = pp.moves.size();
+      m.segment = geo.pieces[next_piece].segment;
+      pos = m.segment.end;
+      if (!pp.move_of[i]) pp.move_of[i] = pp.moves.size();
       pp.moves.push_back(m);
+      ++next_piece;
     }
     pp.after[i] = pos;
   }
@@ -38,10 +43,13 @@ ProgrammedPath programmed_path(const program::Program& prog) {
 double ProgrammedPath::deviation_mm(const core::Vec& p, std::uint32_t tag, bool moving) const {
   if (tag >= before.size()) return core::distance(p, end);
   if (moving && move_of[tag]) {
-    const std::size_t m = *move_of[tag];
-    double d = moves[m].segment.distance_to(p);
-    if (m > 0) d = std::min(d, moves[m - 1].segment.distance_to(p));
-    if (m + 1 < moves.size()) d = std::min(d, moves[m + 1].segment.distance_to(p));
+    // Every piece of the instruction (a curve has several), and one motion on either side.
+    const std::size_t first = *move_of[tag];
+    std::size_t last = first;
+    while (last + 1 < moves.size() && moves[last + 1].instruction == tag) ++last;
+    double d = std::numeric_limits<double>::infinity();
+    for (std::size_t m = first > 0 ? first - 1 : 0; m <= std::min(last + 1, moves.size() - 1); ++m)
+      d = std::min(d, moves[m].segment.distance_to(p));
     return d;
   }
   return std::min(core::distance(p, before[tag]), core::distance(p, after[tag]));

@@ -111,3 +111,27 @@ TEST(Run, GcodeExamplesRunOnTheRouter) {
     }
   }
 }
+
+TEST(Run, G5AndG5_2CurvesRunOnTheCurveWithinTheLimits) {
+  // A G5 cubic, a G5.1 quadratic and a G5.2 NURBS, run exactly as programmed (G61: no blends), so
+  // every setpoint must lie on the programmed curves.
+  const auto cfg = machine::default_machine();
+  auto r = program::iso::parse(
+      "G21 G90 G17 G61\nG0 X10 Y10\nF600\nG5 I10 J0 P-10 Q0 X40 Y30\nG5.1 I10 J-20 X60 Y20\n"
+      "G5.2 X60 Y40 P1 L3\nX80 Y40 P2\nX80 Y20 P1\nG5.3\nM30\n",
+      "curves.ngc");
+  for (const auto& d : r.diagnostics) ADD_FAILURE() << d.format();
+  ASSERT_TRUE(r.program);
+  const auto res = app::simulate(*r.program, cfg);
+  ASSERT_TRUE(res.ok) << res.result;
+  const auto s = report::summarize(*r.program, cfg, res.trace);
+  EXPECT_LT(s.max_path_deviation_mm, 1e-6);
+  EXPECT_GT(s.feed_mm, 60.0);  // the curves were really cut, not skipped
+  const auto& last = res.trace.rows.back();
+  EXPECT_NEAR(last.cmd[0], 80.0, 1e-9);
+  EXPECT_NEAR(last.cmd[1], 20.0, 1e-9);
+  for (const auto& a : cfg.axes) {
+    EXPECT_LE(s.axis[a.index].max_vel_mm_s, a.max_vel_mm_s * (1 + 1e-6)) << a.name;
+    EXPECT_LE(s.axis[a.index].max_acc_mm_s2, a.max_acc_mm_s2 * (1 + 1e-3)) << a.name;
+  }
+}
