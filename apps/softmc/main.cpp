@@ -17,6 +17,7 @@
 #include "report/summary.hpp"
 #include "moves.hpp"
 #include "simulation.hpp"
+#include "spc_admin.hpp"
 #include "spc_command.hpp"
 
 namespace {
@@ -190,6 +191,8 @@ int main(int argc, char** argv) {
   auto* config = app.add_subcommand("config", "print the effective machine configuration as TOML");
   config_m.add_to(config);
 
+  app::SpcAdminCli spc_admin(app);  // `programs STORE ...`, `registers ...` (docs/cli.md, S-12)
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -197,6 +200,7 @@ int main(int argc, char** argv) {
   }
 
   try {
+    if (auto rc = spc_admin.run()) return *rc;
     if (*run && is_spc(run_prog)) {
       spc_args.store = run_prog;
       spc_args.trace_csv = trace_csv;

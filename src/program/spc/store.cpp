@@ -52,32 +52,61 @@ std::vector<int> ProgramStore::numbers() const {
   return v;
 }
 
-core::Diagnostics ProgramStore::load_folder(const std::string& dir, const ParseOptions& opt) {
+std::optional<std::string> read_text_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::stringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) return std::nullopt;
+  return ss.str();
+}
+
+FolderFiles scan_folder(const std::string& dir) {
   namespace fs = std::filesystem;
-  core::Diagnostics out;
+  FolderFiles out;
   std::error_code ec;
   std::vector<fs::path> files;
-  for (const auto& e : fs::directory_iterator(dir, ec))
-    if (e.is_regular_file() && e.path().extension() == ".spc") files.push_back(e.path());
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    std::string ext = e.path().extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    if (e.is_regular_file() && ext == ".spc") files.push_back(e.path());
+  }
   if (ec) {
-    out.push_back({dir, 0, 0, core::Severity::Error, fmt::format("cannot read the program folder: {}", ec.message())});
+    out.diagnostics.push_back(
+        {dir, 0, 0, core::Severity::Error, fmt::format("cannot read the program folder: {}", ec.message())});
     return out;
   }
   std::sort(files.begin(), files.end());
   for (const auto& f : files) {
     const int n = program_number_from_file_name(f.filename().string());
     if (n < 0) {
-      out.push_back({f.string(), 0, 0, core::Severity::Error, "a program file is named P<n>.spc with n = 0..99"});
+      out.diagnostics.push_back({f.string(), 0, 0, core::Severity::Error, "a program file is named P<n>.spc with n = 0..99"});
       continue;
     }
-    std::ifstream in(f);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    if (!in) {
-      out.push_back({f.string(), 0, 0, core::Severity::Error, "cannot read the file"});
+    auto& slot = out.path[static_cast<std::size_t>(n)];
+    if (!slot.empty()) {
+      // Two files for one number: which one runs would depend on the directory order, so neither does.
+      out.diagnostics.push_back(
+          {f.string(), 0, 0, core::Severity::Error, fmt::format("program P{} is also in {}", n, slot)});
       continue;
     }
-    add(n, ss.str(), f.string(), opt, out);
+    slot = f.string();
+  }
+  return out;
+}
+
+core::Diagnostics ProgramStore::load_folder(const std::string& dir, const ParseOptions& opt) {
+  auto files = scan_folder(dir);
+  core::Diagnostics out = std::move(files.diagnostics);
+  for (int n = 0; n < kPrograms; ++n) {
+    const auto& f = files.path[static_cast<std::size_t>(n)];
+    if (f.empty()) continue;
+    const auto text = read_text_file(f);
+    if (!text) {
+      out.push_back({f, 0, 0, core::Severity::Error, "cannot read the file"});
+      continue;
+    }
+    add(n, *text, f, opt, out);
   }
   auto v = validate();
   out.insert(out.end(), v.begin(), v.end());

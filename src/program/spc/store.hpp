@@ -3,6 +3,7 @@
 
 #include <array>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -35,5 +36,16 @@ class ProgramStore {
 
 // "P12.spc" (any case of P and the extension) → 12; -1 when the name is not a program file name.
 int program_number_from_file_name(std::string_view name);
+
+// The program files of a store folder: one path per program number (-1 ... none), and an error for every
+// .spc file that is not named P<n>.spc or that holds a number another file holds too (P3.spc and P03.spc).
+struct FolderFiles {
+  std::array<std::string, kPrograms> path{};
+  core::Diagnostics diagnostics;
+};
+FolderFiles scan_folder(const std::string& dir);
+
+// Reads a whole file as bytes; nothing when it cannot be read.
+std::optional<std::string> read_text_file(const std::string& path);
 
 }  // namespace softmc::program::spc
