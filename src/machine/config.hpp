@@ -65,6 +65,26 @@ struct PlannerMachineConfig {
   friend bool operator==(const PlannerMachineConfig&, const PlannerMachineConfig&) = default;
 };
 
+// One M function's configuration (plc_interface.md P-10): a [gcode.m.<n>] table. An entry gives the
+// function's whole configuration: flags not written are false. Fixed functions keep their group.
+struct MFunctionConfig {
+  int number = 0;                 // M0 … M199 (P-10 configures 0 … 100; LinuxCNC's user M100 … M199)
+  int group = 0;                  // 0 = its own: a fixed function's P-10 group, else 14; free groups 4, 10 … 14
+  bool break_path_start = false;  // the continuous path stops before the block
+  bool break_path_end = false;    // … after the block
+  bool changes_position = false;  // the function moves the machine (the path is re-read after it)
+  friend bool operator==(const MFunctionConfig&, const MFunctionConfig&) = default;
+};
+
+// The G-code interpreter (docs/gcode.md): the [gcode] table. Relative paths in a configuration file
+// are taken from that file's folder (load_machine makes them absolute).
+struct GcodeMachineConfig {
+  std::string tool_table;                    // LinuxCNC .tbl file for H and D words; "" = none
+  std::vector<std::string> subroutine_path;  // folders searched for o<name> call files, in order
+  std::vector<MFunctionConfig> m;            // [gcode.m.<n>], by number
+  friend bool operator==(const GcodeMachineConfig&, const GcodeMachineConfig&) = default;
+};
+
 struct MachineConfig {
   std::string name = "cutting_table";
   double period_s = 0.001;                 // interpolation period
@@ -73,6 +93,7 @@ struct MachineConfig {
   std::size_t planner_queue = 256;         // timed segments the planner may hold
   SpcMachineConfig spc;                    // [spc]
   PlannerMachineConfig planner;            // [planner]
+  GcodeMachineConfig gcode;                // [gcode]
 
   // Only enabled axes count as the machine's axes: axis() is nullptr for a disabled one.
   const AxisConfig* axis(std::size_t index) const;

@@ -66,6 +66,8 @@ std::optional<std::string> rule_violation(ConfigRule rule, const std::string& v)
 std::optional<std::string> rule_violation(ConfigRule rule, int v) {
   if (rule == ConfigRule::SpcProgram && (v < -1 || v > 99))
     return fmt::format("must be a program number 0..99, or -1 for none (got {})", v);
+  if (rule == ConfigRule::MGroup && (v < 0 || v > 14))
+    return fmt::format("must be an M function group 1..14, or 0 for the function's own (got {})", v);
   return std::nullopt;
 }
 
@@ -126,6 +128,17 @@ std::optional<ConfigProblem> find_problem(const MachineConfig& cfg, const std::v
 
   if (auto p = check_keys(kSpcKeys, cfg.spc, "spc.", only)) return p;
   if (auto p = check_keys(kPlannerKeys, cfg.planner, "planner.", only)) return p;
+  if (auto p = check_keys(kGcodeKeys, cfg.gcode, "gcode.", only)) return p;
+  for (std::size_t i = 0; i < cfg.gcode.m.size(); ++i) {
+    const auto& m = cfg.gcode.m[i];
+    const std::string mk = fmt::format("gcode.m.{}", m.number);
+    if (!only && (m.number < 0 || m.number > kMaxMFunction))
+      return ConfigProblem{{mk, "gcode.m"}, fmt::format("{}: M functions are numbered 0..{}", mk, kMaxMFunction)};
+    if (!only && i > 0 && m.number <= cfg.gcode.m[i - 1].number)
+      return ConfigProblem{{mk, "gcode.m"}, fmt::format("gcode.m must be in number order without duplicates ({} after "
+                                                        "gcode.m.{})", mk, cfg.gcode.m[i - 1].number)};
+    if (auto p = check_keys(kMFunctionKeys, m, mk + ".", only)) return p;
+  }
 
   for (const auto& a : cfg.axes) {
     if (!a.enabled) continue;  // a disabled axis takes no part in anything; checked once enabled

@@ -24,6 +24,7 @@ enum class ConfigRule : std::uint8_t {
   NonEmpty,      // a non-empty string
   SpcProgram,    // an SPC program number 0..99, or -1 for none
   SpcMode,       // "start-stop" or "record-select"
+  MGroup,        // a P-10 M function group 1..14, or 0 for the function's own
 };
 
 inline constexpr double kMinPeriod_s = 1e-5;
@@ -34,7 +35,7 @@ inline constexpr std::size_t kMaxQueue = 1u << 20;
 
 template <class Owner>
 using ConfigField = std::variant<double Owner::*, bool Owner::*, std::string Owner::*, std::size_t Owner::*,
-                           HomeSide Owner::*, int Owner::*>;
+                           HomeSide Owner::*, int Owner::*, std::vector<std::string> Owner::*>;
 
 template <class Owner>
 struct ConfigKey {
@@ -95,6 +96,21 @@ inline const std::array<ConfigKey<PlannerMachineConfig>, 3> kPlannerKeys{{
     {"lookahead", &PlannerMachineConfig::lookahead, ConfigRule::Queue},
     {"max_feed_override", &PlannerMachineConfig::max_feed_override, ConfigRule::Positive},
 }};
+
+// Keys of the [gcode] table (docs/gcode.md, docs/configuration.md).
+inline const std::array<ConfigKey<GcodeMachineConfig>, 2> kGcodeKeys{{
+    {"tool_table", &GcodeMachineConfig::tool_table, ConfigRule::None},
+    {"subroutine_path", &GcodeMachineConfig::subroutine_path, ConfigRule::None},
+}};
+
+// Keys of a [gcode.m.<n>] table (P-10); the number comes from the table's name.
+inline const std::array<ConfigKey<MFunctionConfig>, 4> kMFunctionKeys{{
+    {"group", &MFunctionConfig::group, ConfigRule::MGroup},
+    {"break_path_start", &MFunctionConfig::break_path_start, ConfigRule::None},
+    {"break_path_end", &MFunctionConfig::break_path_end, ConfigRule::None},
+    {"changes_position", &MFunctionConfig::changes_position, ConfigRule::None},
+}};
+inline constexpr int kMaxMFunction = 199;
 
 // "axes.x" for axis index 0.
 std::string axis_key(std::size_t index);

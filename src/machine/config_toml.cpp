@@ -6,6 +6,7 @@
 //                                 ├─► Setter::apply(path, node) ─► MachineConfig ─► find_problem()
 //   "k.e.y=value" ─► node ────────┘
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -110,10 +111,11 @@ class Setter {
     if (path[0] == "axes") return apply_axes(path, node, key, loc);
     if (path[0] == "spc") return apply_spc(path, node, key, loc);
     if (path[0] == "planner") return apply_planner(path, node, key, loc);
+    if (path[0] == "gcode") return apply_gcode(path, node, key, loc);
     if (path.size() == 1)
       for (const auto& k : kMachineKeys)
         if (k.name == path[0]) return set_field(cfg_, k, node, key, loc);
-    std::vector<std::string_view> names{"axes", "spc", "planner"};
+    std::vector<std::string_view> names{"axes", "spc", "planner", "gcode"};
     for (const auto& k : kMachineKeys) names.push_back(k.name);
     fail(loc, "unknown key " + key + suggestion(path.back(), names));
   }
@@ -176,6 +178,42 @@ class Setter {
     fail(loc, "unknown key " + key + suggestion(path.back(), names));
   }
 
+  // [gcode] and its [gcode.m.<n>] tables (P-10 M functions).
+  void apply_gcode(const std::vector<std::string>& path, const toml::node& node, const std::string& key,
+                   const std::string& loc) {
+    if (path.size() == 1) return apply_table_node(path, node, key, loc);
+    if (path[1] == "m") {
+      if (path.size() == 2) return apply_table_node(path, node, key, loc);
+      const std::string& n = path[2];
+      const bool digits = !n.empty() && n.size() <= 3 && n.find_first_not_of("0123456789") == std::string::npos;
+      if (!digits || std::stoi(n) > kMaxMFunction)
+        fail(loc, fmt::format("unknown M function gcode.m.{} (M functions are numbered 0..{})", n, kMaxMFunction));
+      MFunctionConfig& m = ensure_m(std::stoi(n));
+      if (path.size() == 3) return apply_table_node(path, node, key, loc);
+      if (path.size() == 4)
+        for (const auto& k : kMFunctionKeys)
+          if (k.name == path[3]) return set_field(m, k, node, key, loc);
+      std::vector<std::string_view> names;
+      for (const auto& k : kMFunctionKeys) names.push_back(k.name);
+      fail(loc, "unknown key " + key + suggestion(path.back(), names));
+    }
+    if (path.size() == 2)
+      for (const auto& k : kGcodeKeys)
+        if (k.name == path[1]) return set_field(cfg_.gcode, k, node, key, loc);
+    std::vector<std::string_view> names{"m"};
+    for (const auto& k : kGcodeKeys) names.push_back(k.name);
+    fail(loc, "unknown key " + key + suggestion(path.back(), names));
+  }
+
+  MFunctionConfig& ensure_m(int number) {
+    auto& v = cfg_.gcode.m;
+    auto it = std::find_if(v.begin(), v.end(), [&](const MFunctionConfig& m) { return m.number >= number; });
+    if (it != v.end() && it->number == number) return *it;
+    MFunctionConfig m;
+    m.number = number;
+    return *v.insert(it, m);
+  }
+
   // An axis not configured yet starts from the AxisConfig defaults (no travel, no speed: they must be given).
   AxisConfig& ensure_axis(std::size_t index) {
     auto it = std::find_if(cfg_.axes.begin(), cfg_.axes.end(), [&](const AxisConfig& a) { return a.index >= index; });
@@ -217,6 +255,16 @@ class Setter {
             if (!i) fail(loc, key + " must be an integer (got " + describe(node) + ")");
             if (*i < -1000000 || *i > 1000000) fail(loc, key + " is out of range (got " + std::to_string(*i) + ")");
             field = static_cast<int>(*i);
+          } else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
+            const auto* arr = node.as_array();
+            if (!arr) fail(loc, key + " must be an array of strings (got " + describe(node) + ")");
+            std::vector<std::string> items;
+            for (const auto& e : *arr) {
+              auto s = e.value_exact<std::string>();
+              if (!s) fail(loc, key + " must be an array of strings (got " + describe(e) + " in it)");
+              items.push_back(*s);
+            }
+            field = std::move(items);
           } else if constexpr (std::is_same_v<T, HomeSide>) {
             if (auto s = node.value_exact<std::string>())
               if (auto side = home_side_from(*s)) return void(field = *side);
@@ -276,9 +324,14 @@ void write_keys(std::string& out, const std::array<ConfigKey<Owner>, N>& keys, c
           using T = std::remove_cvref_t<decltype(v)>;
           if constexpr (std::is_same_v<T, double>) out += toml_float(v);
           else if constexpr (std::is_same_v<T, bool>) out += v ? "true" : "false";
-          else if constexpr (std::is_same_v<T, std::string>) out += quoted(v);
+          else if constexpr (std::is_same_v<T, std::string>) out += quoted(std::string_view(v));  // not std::quoted
           else if constexpr (std::is_same_v<T, std::size_t> || std::is_same_v<T, int>) out += std::to_string(v);
           else if constexpr (std::is_same_v<T, HomeSide>) out += quoted(home_side_name(v));
+          else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
+            out += '[';
+            for (std::size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + quoted(std::string_view(v[i]));
+            out += ']';
+          }
         },
         k.field);
     out += '\n';
@@ -316,7 +369,16 @@ MachineConfig load_machine(const std::string& path) {
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) fail(path, "cannot read machine configuration");
-  return parse_machine(text.str(), path);
+  MachineConfig cfg = parse_machine(text.str(), path);
+  // [gcode] paths written relative to the configuration file mean its folder, wherever softmc runs.
+  const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  auto resolve = [&](std::string& p) {
+    if (!p.empty() && std::filesystem::path(p).is_relative())
+      p = std::filesystem::absolute(dir / p).lexically_normal().string();
+  };
+  resolve(cfg.gcode.tool_table);
+  for (auto& folder : cfg.gcode.subroutine_path) resolve(folder);
+  return cfg;
 }
 
 void apply_override(MachineConfig& cfg, const std::string& assignment) {
@@ -363,6 +425,12 @@ std::string to_toml(const MachineConfig& cfg) {
   write_keys(out, kSpcKeys, cfg.spc);
   out += "\n[planner]\n";
   write_keys(out, kPlannerKeys, cfg.planner);
+  out += "\n[gcode]\n";
+  write_keys(out, kGcodeKeys, cfg.gcode);
+  for (const auto& m : cfg.gcode.m) {
+    out += fmt::format("\n[gcode.m.{}]\n", m.number);
+    write_keys(out, kMFunctionKeys, m);
+  }
   return out;
 }
 

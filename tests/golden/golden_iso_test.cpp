@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "golden_setup.hpp"
 #include "moves.hpp"
 #include "program/iso/parser.hpp"
 
@@ -52,7 +53,18 @@ std::vector<Move> read_golden(const fs::path& p) {
   std::string line;
   int plane = 0;  // 0 XY, 1 XZ (first = Z, second = X), 2 YZ
   double k = 1.0;
+  double tool[6] = {};  // USE_TOOL_LENGTH_OFFSET: rs274's moves leave it out, softmc's machine positions have it
   while (std::getline(in, line)) {
+    if (line.rfind("USE_TOOL_LENGTH_OFFSET(", 0) == 0) {
+      std::string inner = line.substr(line.find('(') + 1, line.rfind(')') - line.find('(') - 1);
+      std::replace(inner.begin(), inner.end(), ',', ' ');
+      std::stringstream ss(inner);
+      for (int i = 0; i < 6; ++i) {
+        ss >> tool[i];
+        if (i < 3) tool[i] *= k;
+      }
+      continue;
+    }
     if (line.rfind("USE_LENGTH_UNITS(", 0) == 0) k = line.find("INCHES") != std::string::npos ? kMmPerInch : 1.0;
     if (line.rfind("SELECT_PLANE(", 0) == 0)
       plane = line.find("XZ") != std::string::npos ? 1 : line.find("YZ") != std::string::npos ? 2 : 0;
@@ -64,7 +76,7 @@ std::vector<Move> read_golden(const fs::path& p) {
     m.text = line;
     if (!arc) {
       m.kind = traverse ? "rapid" : "feed";
-      for (int i = 0; i < 6; ++i) m.end[i] = i < 3 ? v.at(i) * k : v.at(i);
+      for (int i = 0; i < 6; ++i) m.end[i] = (i < 3 ? v.at(i) * k : v.at(i)) + tool[i];
     } else {
       // ARC_FEED(first_end, second_end, first_axis, second_axis, rotation, axis_end_point, a, b, c)
       static constexpr int kFirst[3] = {0, 2, 1}, kSecond[3] = {1, 0, 2}, kNormal[3] = {2, 1, 0};
@@ -73,11 +85,12 @@ std::vector<Move> read_golden(const fs::path& p) {
       m.end[kSecond[plane]] = v.at(1) * k;
       m.end[kNormal[plane]] = v.at(5) * k;
       for (int i = 3; i < 6; ++i) m.end[i] = v.at(i + 3);
+      for (int i = 0; i < 6; ++i) m.end[i] += tool[i];
       m.has_center = true;
       m.center_axes[0] = kFirst[plane];
       m.center_axes[1] = kSecond[plane];
-      m.center[0] = v.at(2) * k;
-      m.center[1] = v.at(3) * k;
+      m.center[0] = v.at(2) * k + tool[kFirst[plane]];
+      m.center[1] = v.at(3) * k + tool[kSecond[plane]];
       m.rotation = static_cast<int>(v.at(4));
     }
     out.push_back(m);
@@ -143,7 +156,7 @@ TEST_P(GoldenIso, MovesMatchLinuxCncRs274) {
   const fs::path ngc = kDir / (GetParam() + ".ngc");
   const fs::path golden = kDir / (GetParam() + ".rs274");
   ASSERT_TRUE(fs::exists(golden)) << "no golden file: run tests/golden/regen.sh " << ngc;
-  const auto r = program::iso::parse_file(ngc.string());
+  const auto r = program::iso::parse_file(ngc.string(), golden::setup().options());
   if (!r.program) {
     // A program may name the interpreter feature it waits for on its first line: "(needs: ...)".
     const std::string head = first_line(ngc);

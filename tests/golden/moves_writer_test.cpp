@@ -11,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include "golden_setup.hpp"
 #include "moves.hpp"
 #include "program/iso/parser.hpp"
 
@@ -74,11 +75,11 @@ TEST(MovesWriter, StreamedOutputEqualsTheWholeProgram) {
   const fs::path dir = fs::path(SOFTMC_SOURCE_DIR) / "tests" / "golden" / "iso";
   for (const auto& e : fs::directory_iterator(dir)) {
     if (e.path().extension() != ".ngc") continue;
-    const auto r = program::iso::parse_file(e.path().string());
+    const auto r = program::iso::parse_file(e.path().string(), golden::setup().options());
     ASSERT_TRUE(r.program) << e.path();
     std::FILE* f = std::tmpfile();
     ASSERT_NE(f, nullptr);
-    program::iso::ParseOptions opt;
+    program::iso::ParseOptions opt = golden::setup().options();
     opt.sink_batch = 7;  // many small batches
     const auto d = app::write_program_moves(f, e.path().string(), opt, 0b111);
     EXPECT_FALSE(core::has_errors(d));

@@ -7,7 +7,9 @@
 #   tests/golden/regen.sh iso/x.ngc  # one program
 #
 # Kept: the canonical calls the test compares (STRAIGHT_TRAVERSE, STRAIGHT_FEED, ARC_FEED) and the
-# ones that give them meaning (SELECT_PLANE, USE_LENGTH_UNITS), without rs274's running numbers.
+# ones that give them meaning (SELECT_PLANE, USE_LENGTH_UNITS, USE_TOOL_LENGTH_OFFSET), without rs274's
+# running numbers. rs274 alone reads its tool table (tool.tbl) in inches; machine.toml gives softmc
+# the same tools in mm (tool_mm.tbl).
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 command -v rs274 >/dev/null || { echo "regen.sh: rs274 not found (apt-get install linuxcnc-uspace)" >&2; exit 1; }
@@ -21,7 +23,7 @@ for p in "${progs[@]}"; do
     echo "regen.sh: rs274 refused $p:" >&2; echo "$raw" | tail -5 >&2; exit 1
   fi
   { echo "# rs274 (LinuxCNC $(dpkg-query -W -f='${Version}' linuxcnc-uspace 2>/dev/null || echo '?')) canonical output of $(basename "$p"); regenerate with tests/golden/regen.sh"
-    grep -E 'STRAIGHT_TRAVERSE\(|STRAIGHT_FEED\(|ARC_FEED\(|SELECT_PLANE\(|USE_LENGTH_UNITS\(' <<<"$raw" | sed -E 's/^ *[0-9]+ N[.0-9]+ +//'
+    grep -E 'STRAIGHT_TRAVERSE\(|STRAIGHT_FEED\(|ARC_FEED\(|SELECT_PLANE\(|USE_LENGTH_UNITS\(|USE_TOOL_LENGTH_OFFSET\(' <<<"$raw" | sed -E 's/^ *[0-9]+ N[.0-9]+ +//'
   } >"$out"
   echo "$out: $(grep -cE 'STRAIGHT|ARC_FEED' "$out") moves"
 done

@@ -55,10 +55,6 @@ std::optional<LineError> refuse_g(long long code10, std::uint32_t col) {
     case 760:
       return LineError{col, fmt::format("{} (spindle-synchronised motion) is not supported: the machine has no spindle "
                                         "feedback", g_code_name(code10))};
-    case 840:
-      return LineError{col, "G84 (tapping) is not supported: it needs spindle-synchronised motion"};
-    case 870: return LineError{col, "G87 (back boring) is not supported: it needs an oriented spindle stop"};
-    case 880: return LineError{col, "G88 (boring, manual retract) is not supported: it needs a manual retract"};
     case 950:
       return LineError{col, "G95 (feed per revolution) is not supported: the machine has no spindle feedback"};
     case 382: case 383: case 384: case 385:
@@ -101,6 +97,10 @@ std::optional<LineError> apply_g(const Word& w, Block& b, GroupSeen& seen) {
     case 850: motion(Motion::Bore85); break;
     case 860: motion(Motion::Bore86); break;
     case 890: motion(Motion::Bore89); break;
+    case 740: motion(Motion::Tap74); break;
+    case 840: motion(Motion::Tap84); break;
+    case 870: motion(Motion::BackBore87); break;
+    case 880: motion(Motion::Bore88); break;
     case 40: case 100: case 280: case 281: case 300: case 301: case 920: case 921: case 922: case 923:
       b.non_modal = At<int>{static_cast<int>(code10), w.col};
       break;

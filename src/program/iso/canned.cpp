@@ -1,11 +1,16 @@
-// Canned cycles G73 G81 G82 G83 G85 G86 G89 with G98/G99 retract, in any plane, as LinuxCNC runs them.
+// Canned cycles G73 G74 G81…G89 with G98/G99 retract, in any plane, as LinuxCNC 2.9 runs them.
 //
-//   initial ──(rapid, only if below R)──► R          for each of L repeats:
-//        │                                              rapid in the plane to the hole (at the current height)
-//        ▼                                              rapid down to R (if not there)
-//   clear = R (G99) or max(initial, R) (G98)            the cycle's own moves (feed down, dwell, pecks …)
-//                                                       retract to clear
-// In G91, X/Y are increments per repeat, R is relative to the initial height and Z to R.
+//   initial level (the height before the first cycle of a run of cycles; kept until a non-cycle motion)
+//   initial < R: rapid up to R first                    for each of L repeats:
+//                                                         rapid in the plane to the hole: the first at
+//   clear = R (G99) or max(initial, R) (G98)                the current height, the others at clear
+//                                                         rapid down to R (if above it)
+//                                                         the cycle's own moves (feed down, dwell, pecks …)
+//                                                         retract to clear
+// In G91, X/Y are increments per repeat, R is relative to the initial level and Z to R.
+// Spindle events of a cycle (G74/G84 reversal, G86/G87/G88 stop and restart, G87 orientation) are
+// emitted as an M function of group 2 with its ToolSwitch, as an M3/M4/M5/M19 block would be, so
+// the PLC sees the spindle state through P-10 exactly as for programmed M functions.
 #include <cmath>
 
 #include "program/iso/exec.hpp"
@@ -38,13 +43,30 @@ std::optional<LineError> Exec::cycle(std::uint32_t col) {
     repeats = static_cast<int>(std::min(l->value, 100000.0));
   }
   double p = st.cycle_p, q = st.cycle_q;
-  const bool needs_p = st.motion == Motion::Drill82 || st.motion == Motion::Bore86 || st.motion == Motion::Bore89;
+  const bool needs_p = st.motion == Motion::Drill82 || st.motion == Motion::Bore86 || st.motion == Motion::Bore89 ||
+                       st.motion == Motion::Bore88;
+  const bool tap = st.motion == Motion::Tap84 || st.motion == Motion::Tap74;
+  // LinuxCNC 2.9 checks the spindle before each cycle that stops or reverses it.
+  const SpindleDir dir = st.spindle;
+  if (tap) {
+    const bool right = st.motion == Motion::Tap84;
+    const char* name = right ? "G84" : "G74";
+    if (dir == SpindleDir::Stopped)
+      return error(col, fmt::format("spindle not turning in {}: program {} S… first", name, right ? "M3" : "M4"));
+    if (dir != (right ? SpindleDir::Cw : SpindleDir::Ccw))
+      return error(col, fmt::format("spindle turning {} in {}: {} taps need {}", right ? "counterclockwise" : "clockwise", name,
+                                    right ? "right-hand" : "left-hand", right ? "M3" : "M4"));
+  }
+  if ((st.motion == Motion::Bore86 || st.motion == Motion::BackBore87 || st.motion == Motion::Bore88) &&
+      dir == SpindleDir::Stopped)
+    return error(col, fmt::format("spindle not turning in {}: program M3 or M4 first (the cycle stops and restarts it)",
+                                  st.motion == Motion::Bore86 ? "G86" : st.motion == Motion::BackBore87 ? "G87" : "G88"));
   const bool needs_q = st.motion == Motion::Drill73 || st.motion == Motion::Drill83;
-  if (needs_p) {
+  if (needs_p || tap) {  // G74/G84: P (dwell at the bottom) is optional, as in LinuxCNC 2.9
     if (const auto& pw = w('P')) {
       if (pw->value < 0) return error(pw->col, "dwell time (P) must be 0 or more");
       p = pw->value;
-    } else if (first) {
+    } else if (first && needs_p) {
       return error(col, "P word missing: this canned cycle dwells P seconds at the bottom");
     }
   }
@@ -57,12 +79,32 @@ std::optional<LineError> Exec::cycle(std::uint32_t col) {
     }
   }
 
+  // G87: the offset of the tool's way in and out (the centre words of the plane axes, always
+  // incremental) and the top of the back bore (the centre word of the third axis: absolute in G90,
+  // from the bottom in G91). All three are needed when G87 starts and are kept while it repeats.
+  static constexpr char kCentre[3] = {'I', 'J', 'K'};
+  double off_a = 0, off_b = 0, middle_word = 0;
+  if (st.motion == Motion::BackBore87) {
+    double* sticky[3] = {&st.cycle_i, &st.cycle_j, &st.cycle_k};
+    for (char c : {'I', 'J', 'K'}) {
+      const auto& x = w(c);
+      if (x) *sticky[c - 'I'] = x->value * kk;
+      else if (first)
+        return error(col, fmt::format("{} word missing with G87: G87 needs I, J and K (offset of the way in, top of the bore)", c));
+    }
+    off_a = *sticky[kCentre[pa.a0] - 'I'];
+    off_b = *sticky[kCentre[pa.a1] - 'I'];
+    middle_word = *sticky[kCentre[pa.n] - 'I'];
+  }
+
   // Program coordinates of the plane and the third axis.
   core::Vec pos = program_position();
   // G98 works from the initial level, kept across consecutive cycles until a non-cycle motion (as
   // LinuxCNC 2.9's rs274 does: a G98 cycle after G99 ones rises back to the height before the first).
   if (std::isnan(st.cycle_il)) st.cycle_il = pos[pa.n];
-  double old_cc = st.retract == Retract::RPlane ? pos[pa.n] : st.cycle_il;
+  // LinuxCNC 2.9's old_cc is that initial level (also for G91's R); current_cc the height now.
+  double old_cc = st.cycle_il;
+  double current_cc = pos[pa.n];
   double aa = pos[pa.a0], bb = pos[pa.a1], aa_inc = 0, bb_inc = 0, r = 0, cc = 0;
   if (st.distance == Distance::Absolute) {
     r = r_word;
@@ -77,6 +119,7 @@ std::optional<LineError> Exec::cycle(std::uint32_t col) {
   }
   if (r < cc)
     return error(col, fmt::format("the retract plane R is below the bottom of the hole {} ({:.4f} < {:.4f})", lc, r / kk, cc / kk));
+  const double middle = st.distance == Distance::Incremental ? cc + middle_word : middle_word;  // G87
   double feed = 0;
   if (auto e = feed_for(col, 1.0, 0.0, feed)) return e;
 
@@ -99,9 +142,23 @@ std::optional<LineError> Exec::cycle(std::uint32_t col) {
     st.position = m;
   };
 
+  auto spindle = [&](SpindleDir d) {
+    const int n = d == SpindleDir::Cw ? 3 : d == SpindleDir::Ccw ? 4 : 5;
+    emit(MFunction{n, static_cast<std::uint8_t>(opt.mtable->get(n).group)});
+    emit(ToolSwitch{d != SpindleDir::Stopped});
+  };
+  auto orient = [&] { emit(MFunction{19, static_cast<std::uint8_t>(opt.mtable->get(19).group)}); };
+  auto override_switch = [&](bool on) {  // G74/G84: no feed override while the tap is in the hole
+    if (!st.feed_override) return;
+    const int n = on ? 48 : 49;
+    emit(MFunction{n, static_cast<std::uint8_t>(opt.mtable->get(n).group)});
+  };
+  const SpindleDir reverse = dir == SpindleDir::Cw ? SpindleDir::Ccw : SpindleDir::Cw;
+
   if (old_cc < r) {
     rapid(pos[pa.a0], pos[pa.a1], r);
     old_cc = r;
+    current_cc = r;
   }
   const double clear = st.retract == Retract::RPlane ? r : old_cc;
   // LinuxCNC backs off 0.010 in in inch programs and 0.254 mm in mm programs: 0.254 mm either way.
@@ -115,8 +172,14 @@ std::optional<LineError> Exec::cycle(std::uint32_t col) {
     if (out.ops.size() > opt.max_ops) return too_many();
     aa += aa_inc;
     bb += bb_inc;
-    rapid(aa, bb, old_cc);
-    if (old_cc != r) rapid(aa, bb, r);
+    // The first hole is reached at the current height, the others at the clear height; then down to R.
+    if (n == 0 && current_cc > r) {
+      rapid(aa, bb, current_cc);
+      rapid(aa, bb, r);
+    } else {
+      rapid(aa, bb, clear);
+      if (clear > r) rapid(aa, bb, r);
+    }
     switch (st.motion) {
       case Motion::Drill81:
         feed_to(aa, bb, cc);
@@ -148,13 +211,52 @@ std::optional<LineError> Exec::cycle(std::uint32_t col) {
       case Motion::Bore86:
         feed_to(aa, bb, cc);
         emit(Dwell{p});
-        emit(ToolSwitch{false});
+        spindle(SpindleDir::Stopped);
         rapid(aa, bb, clear);
-        emit(ToolSwitch{true});
+        spindle(dir);
+        break;
+      case Motion::Tap74:
+      case Motion::Tap84:
+        // A floating (tension/compression) tap holder, as LinuxCNC 2.9's G84: the feed is the
+        // programmed F (= pitch × S), not synchronised to the spindle; overrides are off meanwhile.
+        override_switch(false);
+        feed_to(aa, bb, cc);
+        spindle(SpindleDir::Stopped);
+        spindle(reverse);
+        emit(Dwell{p});
+        feed_to(aa, bb, clear);
+        spindle(SpindleDir::Stopped);
+        spindle(dir);
+        override_switch(true);
+        break;
+      case Motion::BackBore87:
+        rapid(aa + off_a, bb + off_b, r);
+        spindle(SpindleDir::Stopped);
+        orient();
+        rapid(aa + off_a, bb + off_b, cc);
+        rapid(aa, bb, cc);
+        spindle(dir);
+        feed_to(aa, bb, middle);
+        feed_to(aa, bb, cc);
+        spindle(SpindleDir::Stopped);
+        orient();
+        rapid(aa + off_a, bb + off_b, cc);
+        rapid(aa + off_a, bb + off_b, clear);
+        rapid(aa, bb, clear);
+        spindle(dir);
+        break;
+      case Motion::Bore88:
+        feed_to(aa, bb, cc);
+        emit(Dwell{p});
+        spindle(SpindleDir::Stopped);
+        emit(Pause{false});  // the operator may retract by hand (LinuxCNC: PROGRAM_STOP)
+        // softmc's addition: on cycle start the tool leaves the hole straight along its axis, with
+        // the spindle still stopped, instead of the next move starting from the bottom.
+        rapid(aa, bb, clear);
+        spindle(dir);
         break;
       default: break;
     }
-    old_cc = clear;
   }
   st.cycle_cc = cc_word;
   st.cycle_r = r_word;

@@ -28,7 +28,7 @@ void rotate_xy(core::Vec& v, double deg) {
 
 const char* word_users(char letter) {
   switch (letter) {
-    case 'I': case 'J': case 'K': return "G2/G3 arcs, G5/G5.1 splines";
+    case 'I': case 'J': case 'K': return "G2/G3 arcs, G5/G5.1 splines, G87";
     case 'R': return "G2/G3 arcs, canned cycles, G10 L2";
     case 'P': return "G4, G2/G3, G5, G5.2, G10, G64, canned cycles, M62…M66";
     case 'Q': return "G5, G64, G73/G83, M66, M61";
@@ -165,6 +165,11 @@ std::optional<LineError> Exec::non_motion_m_and_words() {
       case 3: case 4: case 5:
         mfn(m);
         emit(ToolSwitch{m.number != 5});
+        st.spindle = m.number == 3 ? SpindleDir::Cw : m.number == 4 ? SpindleDir::Ccw : SpindleDir::Stopped;
+        continue;
+      case 48: case 49:
+        mfn(m);
+        st.feed_override = m.number == 48;
         continue;
       case 62: case 63: case 64: case 65: {
         const auto& p = w('P');
@@ -204,6 +209,7 @@ std::optional<LineError> Exec::non_motion_m_and_words() {
       case 19:
         (void)w('R'), (void)w('Q'), (void)w('P');  // orientation angle, timeout, direction: the PLC's
         mfn(m);
+        st.spindle = SpindleDir::Stopped;  // an oriented spindle stands (LinuxCNC: spindle_turning = STOPPED)
         continue;
       default:
         (void)mt;

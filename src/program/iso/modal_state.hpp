@@ -37,6 +37,9 @@ struct ModalState {
   core::Vec tool;        // active tool length offset
   bool tool_length_on = false;
 
+  SpindleDir spindle = SpindleDir::Stopped;  // M3/M4 turn it, M5 and M19 stop it
+  bool feed_override = true;                 // M48 on / M49 off (G84 turns it off while tapping)
+
   int selected_tool = 0;  // T
   int current_tool = 0;   // after M6 / M61
 
@@ -44,6 +47,8 @@ struct ModalState {
 
   // Canned cycle words that stay in effect while the cycle repeats (LinuxCNC cycle_cc, _r, _p, _q).
   double cycle_cc = 0, cycle_r = 0, cycle_p = 0, cycle_q = 0;
+  // G87 words by letter (I J K, mm), kept like LinuxCNC's cycle_i/_j/_k while G87 repeats.
+  double cycle_i = 0, cycle_j = 0, cycle_k = 0;
   // The initial level: the third-axis height when the first cycle of a run of cycles began (NAN
   // outside canned cycles). G98 retracts to it for as long as cycles follow one another.
   double cycle_il = NAN;

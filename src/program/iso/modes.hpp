@@ -9,8 +9,12 @@ namespace softmc::program::iso {
 enum class Motion : std::uint8_t {
   None, Rapid, Linear, ArcCw, ArcCcw,   // G80, G0, G1, G2, G3
   CubicSpline, QuadSpline, Nurbs,       // G5, G5.1, G5.2 (… G5.3)
-  Drill73, Drill81, Drill82, Drill83, Bore85, Bore86, Bore89  // canned cycles
+  Drill73, Drill81, Drill82, Drill83, Bore85, Bore86, Bore89,  // canned cycles
+  Tap74, Tap84, BackBore87, Bore88                                  // (cycles stay last: is_cycle)
 };
+
+// Spindle (or torch) as M3/M4/M5/M19 left it: G84, G86, G87 and G88 need it turning and restart it.
+enum class SpindleDir : std::uint8_t { Stopped, Cw, Ccw };
 
 // Group 2: the arc plane, named by (first axis, second axis); the normal is the third.
 enum class Plane : std::uint8_t { XY, XZ, YZ };  // G17, G18 (Z,X), G19 (Y,Z)

@@ -2,7 +2,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <limits>
@@ -475,4 +478,58 @@ TEST(MachineConfig, DisabledAxisIsNotChecked) {
   axis_of(cfg, kZ).enabled = false;
   axis_of(cfg, kZ).max_vel_mm_s = -5;
   EXPECT_NO_THROW(validate(cfg));
+}
+
+// [gcode]: the interpreter's tool table, subroutine folders and P-10 M functions (docs/configuration.md).
+TEST(MachineConfig, GcodeTableRoundTrips) {
+  const std::string text =
+      "[gcode]\ntool_table = \"/opt/tools.tbl\"\nsubroutine_path = [\"/opt/subs\", \"/opt/more subs\"]\n"
+      "[gcode.m.100]\ngroup = 4\nbreak_path_start = true\n"
+      "[gcode.m.6]\nbreak_path_end = true\nchanges_position = true\n";
+  const auto cfg = parse_machine(text, "m.toml");
+  EXPECT_EQ(cfg.gcode.tool_table, "/opt/tools.tbl");
+  EXPECT_EQ(cfg.gcode.subroutine_path, (std::vector<std::string>{"/opt/subs", "/opt/more subs"}));
+  ASSERT_EQ(cfg.gcode.m.size(), 2u);
+  EXPECT_EQ(cfg.gcode.m[0], (MFunctionConfig{6, 0, false, true, true}));  // kept in number order
+  EXPECT_EQ(cfg.gcode.m[1], (MFunctionConfig{100, 4, true, false, false}));
+  const auto written = to_toml(cfg);
+  EXPECT_THAT(written, HasSubstr("\n[gcode.m.100]\ngroup = 4\nbreak_path_start = true\n"));
+  EXPECT_EQ(parse_machine(written, "out.toml"), cfg);
+  // --set reaches the same keys.
+  auto over = cfg;
+  apply_override(over, "gcode.m.101.group=12");
+  apply_override(over, "gcode.subroutine_path=[\"a\"]");
+  ASSERT_EQ(over.gcode.m.size(), 3u);
+  EXPECT_EQ(over.gcode.m[2].group, 12);
+  EXPECT_EQ(over.gcode.subroutine_path, std::vector<std::string>{"a"});
+}
+
+TEST(MachineConfig, GcodeErrorsNameTheKey) {
+  EXPECT_THAT(error_of([] { parse_machine("[gcode.m.100]\ngroup = 15\n", "m.toml"); }),
+              StartsWith("m.toml:2:1: error: gcode.m.100.group must be an M function group 1..14, or 0 for the "
+                         "function's own (got 15)"));
+  EXPECT_THAT(error_of([] { parse_machine("[gcode.m.100]\nbreak_path = true\n", "m.toml"); }),
+              StartsWith("m.toml:2:1: error: unknown key gcode.m.100.break_path (did you mean break_path_start?)"));
+  EXPECT_THAT(error_of([] { parse_machine("[gcode.m.x]\ngroup = 4\n", "m.toml"); }),
+              HasSubstr("error: unknown M function gcode.m.x (M functions are numbered 0..199)"));
+  EXPECT_THAT(error_of([] { parse_machine("[gcode.m.200]\ngroup = 4\n", "m.toml"); }),
+              HasSubstr("error: unknown M function gcode.m.200"));
+  EXPECT_THAT(error_of([] { parse_machine("[gcode]\nsubroutine_path = \"subs\"\n", "m.toml"); }),
+              StartsWith("m.toml:2:1: error: gcode.subroutine_path must be an array of strings (got string \"subs\")"));
+  EXPECT_THAT(error_of([] { parse_machine("[gcode]\nsubroutine_path = [\"a\", 1]\n", "m.toml"); }),
+              HasSubstr("gcode.subroutine_path must be an array of strings (got integer 1 in it)"));
+  EXPECT_THAT(error_of([] { parse_machine("[gcode]\ntooltable = \"t.tbl\"\n", "m.toml"); }),
+              HasSubstr("unknown key gcode.tooltable (did you mean tool_table?)"));
+}
+
+TEST(MachineConfig, GcodePathsAreRelativeToTheConfigurationFile) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("softmc_cfg_" + std::to_string(::getpid()));
+  fs::create_directories(dir / "machines");
+  const fs::path file = dir / "machines" / "m.toml";
+  std::ofstream(file) << "[gcode]\ntool_table = \"tools/t.tbl\"\nsubroutine_path = [\"../subs\", \"/abs\"]\n";
+  const auto cfg = load_machine(file.string());
+  EXPECT_EQ(cfg.gcode.tool_table, (dir / "machines" / "tools" / "t.tbl").string());
+  EXPECT_EQ(cfg.gcode.subroutine_path, (std::vector<std::string>{(dir / "subs").string(), "/abs"}));
+  fs::remove_all(dir);
 }

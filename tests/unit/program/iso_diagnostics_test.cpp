@@ -44,7 +44,9 @@ TEST(IsoDiagnostics, UnknownAndUnsupportedWords) {
   EXPECT_EQ(one_error("G1.25\n"), "t.ngc:1:1: error: malformed G code G1.25: at most one decimal place");
   EXPECT_EQ(one_error("M200\n"), "t.ngc:1:1: error: unknown M code M200 (M0 … M199)");
   EXPECT_EQ(one_error("M3.5\n"), "t.ngc:1:1: error: malformed M code M3.5: M codes are whole numbers");
-  EXPECT_EQ(one_error("G84 X1 Z-1 R1\n"), "t.ngc:1:1: error: G84 (tapping) is not supported: it needs spindle-synchronised motion");
+  EXPECT_EQ(one_error("G33 X1 K1\n").rfind("t.ngc:1:1: error: G33 (spindle-synchronised motion) is not supported", 0), 0u);
+  // G84 is a floating-holder cycle at the programmed F (LinuxCNC 2.9): it needs the spindle turning clockwise.
+  EXPECT_EQ(one_error("F100 G84 X1 Z-1 R1\n"), "t.ngc:1:6: error: spindle not turning in G84: program M3 S… first");
 }
 
 TEST(IsoDiagnostics, MalformedNumberAtTheWord) {
@@ -66,8 +68,8 @@ TEST(IsoDiagnostics, AxisWordsBeforeAnyMotionMode) {
 }
 
 TEST(IsoDiagnostics, WordsWithNothingToUseThem) {
-  EXPECT_EQ(one_error("G1 X1 I2 F60\n"), "t.ngc:1:7: error: I word with nothing to use it (it goes with G2/G3 arcs, G5/G5.1 splines)");
-  EXPECT_EQ(one_error("G0 X1 J2\n"), "t.ngc:1:7: error: J word with nothing to use it (it goes with G2/G3 arcs, G5/G5.1 splines)");
+  EXPECT_EQ(one_error("G1 X1 I2 F60\n"), "t.ngc:1:7: error: I word with nothing to use it (it goes with G2/G3 arcs, G5/G5.1 splines, G87)");
+  EXPECT_EQ(one_error("G0 X1 J2\n"), "t.ngc:1:7: error: J word with nothing to use it (it goes with G2/G3 arcs, G5/G5.1 splines, G87)");
   EXPECT_EQ(one_error("G0 X1 H2\n"), "t.ngc:1:7: error: H word with nothing to use it (it goes with G43)");
   EXPECT_EQ(one_error("G0 X1 P2\n").rfind("t.ngc:1:7: error: P word with nothing to use it (it goes with G4", 0), 0u);
   EXPECT_EQ(one_error("G4\n"), "t.ngc:1:1: error: G4 needs a P word: the dwell time in seconds");
