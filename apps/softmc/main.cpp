@@ -17,6 +17,7 @@
 #include "program/spc/store.hpp"
 #include "report/plot.hpp"
 #include "report/summary.hpp"
+#include "gcode_setup.hpp"
 #include "moves.hpp"
 #include "simulation.hpp"
 #include "spc_admin.hpp"
@@ -43,31 +44,9 @@ struct MachineArgs {
   }
 };
 
-// The interpreter's settings for run, check and moves, from the machine configuration: [gcode]
-// (tool table, subroutine folders, P-10 M functions) and G23's tolerance from [planner]. The
-// returned setup owns the tables its options() point at. Throws ConfigError on a bad table.
-std::unique_ptr<program::iso::InterpSetup> gcode_setup(const machine::MachineConfig& cfg) {
-  program::iso::InterpConfig ic;
-  ic.tool_table = cfg.gcode.tool_table;
-  ic.subroutine_path = cfg.gcode.subroutine_path;
-  ic.g23_tolerance_mm = cfg.planner.tolerance_mm;
-  for (const auto& m : cfg.gcode.m)
-    ic.m_functions.push_back({m.number, m.group, m.break_path_start, m.break_path_end, m.changes_position});
-  ic.source = "machine configuration";
-  auto setup = std::make_unique<program::iso::InterpSetup>();
-  const auto diags = setup->load(ic);
-  if (core::has_errors(diags)) {
-    std::string text;
-    for (const auto& d : diags)  // "file: error: message" where there is no line (ConfigError's style)
-      text += (text.empty() ? "" : "\n") + (d.line ? d.format() : d.file + ": error: " + d.message);
-    throw machine::ConfigError(text);
-  }
-  return setup;
-}
-
 // Parses a program; prints each diagnostic on stderr. Returns nothing on any error.
 std::optional<program::Program> load_program(const std::string& path, const machine::MachineConfig& cfg) {
-  const auto setup = gcode_setup(cfg);
+  const auto setup = app::gcode_setup(cfg);
   auto r = program::iso::parse_file(path, setup->options());
   // Validate the whole thing, then act: the path must stay inside the travel (P-9) before anything moves.
   if (r.program) {
@@ -168,7 +147,7 @@ int cmd_check(const std::vector<std::string>& paths, const MachineArgs& margs) {
 int cmd_moves(const std::string& path, const MachineArgs& margs) {
   const auto cfg = margs.load();
   // Streamed (moves.hpp): same options as load_program, output only for a program without errors.
-  const auto setup = gcode_setup(cfg);
+  const auto setup = app::gcode_setup(cfg);
   const auto diags = app::write_program_moves(stdout, path, setup->options(), cfg.axis_mask());
   for (const auto& d : diags) std::cerr << d.format() << '\n';
   if (core::has_errors(diags)) return 1;
