@@ -16,6 +16,7 @@ motion::PlannerConfig planner_config(const machine::MachineConfig& cfg) {
   motion::PlannerConfig pc;
   pc.tolerance_mm = cfg.planner.tolerance_mm;
   pc.max_feed_override = cfg.planner.max_feed_override;
+  pc.merge_share = cfg.planner.merge_share;
   return pc;
 }
 motion::InterpolatorConfig interpolator_config(const machine::MachineConfig& cfg) {
@@ -92,6 +93,7 @@ report::TraceRow Simulation::row() const {
   for (std::size_t i = 0; i < core::kMaxAxes; ++i) r.act[i] = drives_[i] ? drives_[i]->measured_mm() : sp.pos[i];
   r.path_v = sp.path_v;
   r.tag = sp.tag;
+  r.tag_last = sp.tag_last;
   r.moving = sp.moving;
   r.rapid = sp.rapid;
   r.tool_on = channel_.tool_on();

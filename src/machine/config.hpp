@@ -62,6 +62,7 @@ struct PlannerMachineConfig {
   double tolerance_mm = 0.05;      // G64 without P, and G23: largest distance of the path from a programmed corner
   std::size_t lookahead = 2000;    // blocks in the look-ahead window (a blended corner makes two)
   double max_feed_override = 2.0;  // P-8: the feed override is clamped to [0, this]; planned for
+  double merge_share = 0.5;        // nearly collinear lines merge while within merge_share·P (0 = off)
   friend bool operator==(const PlannerMachineConfig&, const PlannerMachineConfig&) = default;
 };
 

@@ -91,10 +91,11 @@ inline const std::array<ConfigKey<SpcMachineConfig>, 14> kSpcKeys{{
 }};
 
 // Keys of the [planner] table (docs/planner.md).
-inline const std::array<ConfigKey<PlannerMachineConfig>, 3> kPlannerKeys{{
+inline const std::array<ConfigKey<PlannerMachineConfig>, 4> kPlannerKeys{{
     {"tolerance_mm", &PlannerMachineConfig::tolerance_mm, ConfigRule::NonNegative},
     {"lookahead", &PlannerMachineConfig::lookahead, ConfigRule::Queue},
     {"max_feed_override", &PlannerMachineConfig::max_feed_override, ConfigRule::Positive},
+    {"merge_share", &PlannerMachineConfig::merge_share, ConfigRule::UnitInterval},
 }};
 
 // Keys of the [gcode] table (docs/gcode.md, docs/configuration.md).

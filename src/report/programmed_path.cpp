@@ -40,13 +40,13 @@ ProgrammedPath programmed_path(const program::Program& prog) {
   return pp;
 }
 
-double ProgrammedPath::deviation_mm(const core::Vec& p, std::uint32_t tag, bool moving) const {
+double ProgrammedPath::deviation_mm(const core::Vec& p, std::uint32_t tag, std::uint32_t tag_last, bool moving) const {
   if (tag >= before.size()) return core::distance(p, end);
   if (moving && move_of[tag]) {
-    // Every piece of the instruction (a curve has several), and one motion on either side.
+    // Every piece of the instructions (a curve has several), and one motion on either side.
     const std::size_t first = *move_of[tag];
     std::size_t last = first;
-    while (last + 1 < moves.size() && moves[last + 1].instruction == tag) ++last;
+    while (last + 1 < moves.size() && moves[last + 1].instruction <= std::max(tag, tag_last)) ++last;
     double d = std::numeric_limits<double>::infinity();
     for (std::size_t m = first > 0 ? first - 1 : 0; m <= std::min(last + 1, moves.size() - 1); ++m)
       d = std::min(d, moves[m].segment.distance_to(p));

@@ -29,11 +29,12 @@ struct ProgrammedPath {
   std::vector<core::Vec> after;                     // position when instruction i has finished
   core::Vec start, end;
 
-  // Distance of p from the programmed path around instruction `tag`. Moving: from that motion's
-  // segment or its neighbouring motions (a corner blend belongs to both and the tag switches at a
+  // Distance of p from the programmed path around instructions `tag`..`tag_last` (a line the planner
+  // merged from several programmed ones stands for all of them). Moving: from those motions'
+  // segments or the motions on either side (a corner blend belongs to both and the tag switches at a
   // cycle boundary, so measuring against one segment alone would overstate it). Standing: from the
   // position before or after that instruction (tag names the motion that just finished).
-  double deviation_mm(const core::Vec& p, std::uint32_t tag, bool moving) const;
+  double deviation_mm(const core::Vec& p, std::uint32_t tag, std::uint32_t tag_last, bool moving) const;
 };
 
 ProgrammedPath programmed_path(const program::Program& prog);

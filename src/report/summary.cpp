@@ -54,7 +54,7 @@ Summary summarize(const program::Program& prog, const machine::MachineConfig& cf
   const double dt = trace.period_s;
   for (std::size_t r = 0; r < rows.size(); ++r) {
     const TraceRow& row = rows[r];
-    s.max_path_deviation_mm = std::max(s.max_path_deviation_mm, path.deviation_mm(row.cmd, row.tag, row.moving));
+    s.max_path_deviation_mm = std::max(s.max_path_deviation_mm, path.deviation_mm(row.cmd, row.tag, row.tag_last, row.moving));
     s.max_path_speed_mm_s = std::max(s.max_path_speed_mm_s, row.path_v);
     for_each_axis(trace.axes, [&](std::size_t i) {
       AxisSummary& a = s.axis[i];

@@ -16,6 +16,7 @@ struct TraceRow {
   core::Vec vel;         // commanded velocity, mm/s
   double path_v = 0;     // commanded path speed, mm/s
   std::uint32_t tag = 0; // index of the program instruction being executed
+  std::uint32_t tag_last = 0; // a merged line: the last instruction it stands for
   bool moving = false;   // a motion segment is being interpolated
   bool rapid = false;    // ... and it is a rapid
   bool tool_on = false;  // torch/spindle output

@@ -54,10 +54,11 @@ TEST(PlannerConfig, ToleranceKeyBoundsTheDeviationOfProgramsWithoutG64) {
 }
 
 // A look-ahead window too short for the braking distance only slows the path; a long one works.
+// (Merging off: merged, the collinear 0.25 mm moves would make a few long lines that 8 blocks cover.)
 TEST(PlannerConfig, LookaheadKeySizesTheWindow) {
   const auto prog = load("examples/gcode/bench/surfacing.ngc");
   const std::vector<std::string> trap{"axes.x.max_jerk_mm_s3=0", "axes.y.max_jerk_mm_s3=0", "axes.z.max_jerk_mm_s3=0",
-                                      "axes.z.min_mm=-10", "planner_queue=2"};
+                                      "axes.z.min_mm=-10", "planner_queue=2", "planner.merge_share=0"};
   auto with = [&](const char* n) {
     auto s = trap;
     s.push_back(std::string("planner.lookahead=") + n);

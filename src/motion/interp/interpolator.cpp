@@ -99,6 +99,7 @@ const Setpoint& Interpolator::step(double dt) {
       sp_.moving = true;
       sp_.rapid = b.rapid;
       sp_.tag = b.tag;
+      sp_.tag_last = b.tag_last;
       if (stop_ != StopKind::None && st.v <= 0) {  // P-5: at rest on the path, the stop is done
         queue_.clear();
         stop_ = StopKind::None;
@@ -112,6 +113,7 @@ const Setpoint& Interpolator::step(double dt) {
     v_ = ramp_.v1;
     sp_.pos = b.end();
     sp_.tag = b.tag;
+    sp_.tag_last = b.tag_last;
     ring.pop();
     started_ = false;
     if (!ring.empty() && std::isfinite(ring.front().j_mm_s3)) {

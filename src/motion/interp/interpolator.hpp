@@ -25,6 +25,7 @@ struct Setpoint {
   bool moving = false;   // a block is being executed (also while held at rest on the path)
   bool rapid = false;
   std::uint32_t tag = 0;  // tag of the block the setpoint lies on
+  std::uint32_t tag_last = 0;  // its last instruction (a merged line stands for tag..tag_last)
 };
 
 // P-5: a normal stop uses the blocks' normal acceleration, an emergency stop that times this factor.
@@ -37,6 +38,9 @@ struct InterpolatorConfig {
   // Jerk mode (the S-curve path profile) looks at most this many blocks ahead per cycle; the end of
   // that horizon is treated as a point to stop at, so it is always safe (only slower when too short).
   int max_horizon_blocks = 8192;
+  // Jerk mode: the guard ends its brake simulation where the rest is one closed-form ramp that keeps
+  // every limit (same verdicts, bit-identical setpoints); false simulates to rest (tests, benchmarks).
+  bool guard_closed_form = true;
 };
 
 // True when any present axis has a jerk limit (blocks then carry a finite j_mm_s3: the jerk follower runs).

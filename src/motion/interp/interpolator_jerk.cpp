@@ -66,7 +66,7 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   // an accepted state (the check of the previous cycle covered it), so it is also the last resort.
   const JerkGuard guard(ring, n, s_, v_, dt, scale, h, override_);
   PathStep step = ramp_cycle(now, vt, a_c, j_c, dt);
-  const GuardVerdict first = guard.verify(step);
+  const GuardVerdict first = guard.verify(step, config_.guard_closed_form);
   if (first.failed()) {
     std::array<PathStep, 4> cand{};
     std::size_t m = 0;
@@ -94,7 +94,7 @@ const Setpoint& Interpolator::step_jerk(double dt) {
     step = guard.brake_now(now);
     for (std::size_t i = 0; i < m; ++i) {
       if (!ahead(cand[i], step)) break;
-      if (!guard.verify(cand[i]).failed()) {
+      if (!guard.verify(cand[i], config_.guard_closed_form).failed()) {
         step = cand[i];
         break;
       }
@@ -120,6 +120,7 @@ const Setpoint& Interpolator::step_jerk(double dt) {
     s_ = std::max(0.0, s_ - b.length);
     sp_.pos = b.end();
     sp_.tag = b.tag;
+    sp_.tag_last = b.tag_last;
     ring.pop();
     started_ = false;
     if (!ring.empty() && !std::isfinite(ring.front().j_mm_s3)) {
@@ -147,6 +148,7 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   sp_.moving = true;
   sp_.rapid = b.rapid;
   sp_.tag = b.tag;
+  sp_.tag_last = b.tag_last;
   if (stop_ != StopKind::None && v_ <= 0 && a_ == 0) {  // P-5: at rest on the path, the stop is done
     queue_.clear();
     stop_ = StopKind::None;

@@ -210,15 +210,56 @@ PathStep JerkGuard::brake(const ProfileState& x, double p, const Cursor& c) cons
   return ramp_cycle(x, 0, a_eff, j_eff, dt_);
 }
 
+// rt-safe. True when the rest of π from x (at p, in block c.k) provably meets every limit without
+// simulating it. Let A, J be block c.k's limits and D the distance of the ramp from x to rest with
+// them. If every block entered within D (+ rounding) has exactly A and J, and every block π's scans
+// look at beyond that (brake(): up to D + v_up·(A/J + 2·dt)) allows at least A and J, then every
+// future π cycle plans with A and J: π is the remainder of that one ramp. It never exceeds v_up
+// (the speed where a reaches 0), |a| ≤ A, |jerk| ≤ J, never reverses (v ≥ a²/2J when braking); so it is safe when every cap,
+// soft cap and junction speed it meets is ≥ v_up, and no stop or the window's end lies within D.
+bool JerkGuard::tail_safe(const ProfileState& x, double p, const Cursor& c) const {
+  const double a0 = acc(c.k), j0 = jerk(c.k);
+  if (!(x.v >= 0) || !(std::abs(x.a) <= a0) || !(j0 > 0) || !std::isfinite(j0)) return false;
+  // Braking already too hard to bring a to 0 before v does: π reverses (the simulation refuses it).
+  if (x.a < 0 && x.v < x.a * x.a / (2 * j0)) return false;
+  const double v_up = x.a > 0 ? x.v + x.a * x.a / (2 * j0) : x.v;
+  const double d_stop = ramp_end({0, x.v, x.a, 0}, plan_ramp(x.v, x.a, 0, a0, j0)).s;
+  if (!(d_stop >= 0)) return false;
+  const double entered = p + d_stop * (1 + 1e-9) + 1e-9;
+  const double scanned = entered + v_up * (a0 / j0 + 2 * dt_) + kTouch_mm;
+  double start = c.start;
+  for (std::size_t k = c.k; k < n_; ++k) {
+    const Block& b = ring_.at(k);
+    if (k > c.k) {
+      if (b.v2_junction <= 0) return start > entered + kTouch_mm;  // a stop: π's scans end here
+      if (start <= entered + kTouch_mm) {  // entered (or touched): the same limits, every cap ≥ v_up
+        if (acc(k) != a0 || jerk(k) != j0 || std::sqrt(b.v2_junction) < v_up) return false;
+      } else if (acc(k) < a0 || jerk(k) < j0) {
+        return false;
+      }
+    }
+    if (start <= entered + kTouch_mm && (b.v_cap_mm_s < v_up || soft(k) < v_up)) return false;
+    const double end = start + b.length;
+    if (end > scanned) return end > entered + kTouch_mm;  // the rest of π ends inside this block
+    start = end;
+  }
+  return start > entered + kTouch_mm;  // the window's end (a point to stop at) lies beyond the brake
+}
+
 // rt-safe
-GuardVerdict JerkGuard::verify(const PathStep& step) const {
+GuardVerdict JerkGuard::verify(const PathStep& step, bool closed_form) const {
   GuardVerdict v;
   Cursor c{0, -s_front_};
   if (!check(c, 0, v_now_, step, v) || v.failed()) return v;
   double p = step.x.s;
   ProfileState x = step.x;
+  std::size_t tried = n_;  // the block where the closed-form tail was last tried
   for (int i = 0; i < kMaxBrakeCycles; ++i) {
     if (std::abs(x.v) <= 1e-12 && std::abs(x.a) <= 1e-9) return v;  // at rest: it may stay
+    if (closed_form && c.k != tried) {  // its conditions change only with the blocks ahead
+      tried = c.k;
+      if (tail_safe(x, p, c)) return v;
+    }
     const PathStep b = brake(x, p, c);
     if (!check(c, p, x.v, b, v) || v.failed()) return v;
     p += b.x.s;

@@ -11,6 +11,9 @@
 // first π step from an accepted state lands on the rest of the same, already checked, simulation:
 // once a state is accepted there is always a safe next step. Limits are never exceeded by design,
 // not by a distance model of the brake.
+// Shortcut (same verdict, fewer cycles): where every block the rest of π can reach or scan has the
+// acceleration and jerk limit π brakes with now, π is one closed-form ramp to rest; when that ramp
+// keeps every cap, junction and stop of those blocks, the cycle-by-cycle simulation stops there.
 #pragma once
 
 #include <cstddef>
@@ -56,8 +59,9 @@ class JerkGuard {
   JerkGuard(const core::Ring<Block>& ring, std::size_t n, double s_front, double v_now, double dt, double scale,
             bool halt, double feed_override);
 
-  // rt-safe. Checks the step from now, then π from where it ends, cycle by cycle until rest.
-  GuardVerdict verify(const PathStep& step) const;
+  // rt-safe. Checks the step from now, then π from where it ends, cycle by cycle until rest (or, with
+  // `closed_form`, until the rest of π is one ramp that provably keeps every limit: same verdict).
+  GuardVerdict verify(const PathStep& step, bool closed_form = true) const;
   // rt-safe. One cycle of π from the present state.
   PathStep brake_now(const ProfileState& now) const { return brake({now.s, now.v, now.a, 0}, 0, Cursor{0, -s_front_}); }
   // Limits (scaled) of the blocks from the front up to distance `to_mm` from now.
@@ -72,6 +76,7 @@ class JerkGuard {
     double start = 0;   // its start, distance from now
   };
   PathStep brake(const ProfileState& x, double p, const Cursor& c) const;
+  bool tail_safe(const ProfileState& x, double p, const Cursor& c) const;
   bool check(Cursor& c, double p0, double v0, const PathStep& st, GuardVerdict& verdict) const;
   double soft(std::size_t k) const;
   bool fail(GuardVerdict& v, bool hard, double at, double u, bool stop) const;

@@ -37,7 +37,9 @@ struct Block {
   bool is_blend = false;
   bool rapid = false;
   std::uint32_t tag = 0;  // instruction index carried to the setpoints
+  std::uint32_t tag_last = 0;  // a merged line: the last instruction it stands for (else = tag)
 
+  double merge_q_mm = 0;      // a merged line: largest distance of the programmed corners it replaces
   double length = 0;          // mm
   double a_mm_s2 = 0;         // path acceleration every axis allows along the whole block
   double j_mm_s3 = 0;         // path jerk every axis allows (infinite: no jerk limit, trapezoid)

@@ -8,28 +8,48 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
+#include <cstdint>
 
 #include "core/ring.hpp"
 #include "motion/planner/block.hpp"
+#include "motion/profile/profile.hpp"
 
 namespace softmc::motion {
 
+// A line held back before blending while the next lines may still merge into it (naive-CAM merge,
+// docs/planner.md): the request it will become, and the programmed points it stands for.
+struct MergeStage {
+  static constexpr std::size_t kMaxPoints = 64;  // bounds the work per push
+  Segment geom;                                  // the merged line: first start → last end
+  double feed_mm_s = 0, tolerance_mm = -1;
+  bool rapid = false;
+  ProfileKind profile = ProfileKind::Scurve;
+  std::uint32_t tag = 0, tag_last = 0;  // the first and last instruction merged
+  double q_mm = 0;                               // largest distance a merged point may lie off the line
+  double dev_mm = 0;                             // largest distance one does
+  std::array<Vec, kMaxPoints> points{};          // programmed corners inside the merged line
+  std::size_t n = 0;
+};
+
 class PlanQueue {
  public:
-  // One slot more than asked: the pending block always has a place to be flushed into.
-  explicit PlanQueue(std::size_t capacity) : ring_(capacity + 1) {}
+  // Spare slots beyond what is asked: a push may commit up to four blocks (the merged line held back
+  // with its blend, then the new move with its blend) and a flush up to three more.
+  static constexpr std::size_t kSpare = 4;
+  explicit PlanQueue(std::size_t capacity) : ring_(capacity + kSpare) {}
 
-  // A push may commit up to two blocks (the shortened previous one and a blend) and leaves a new
-  // pending block that a flush will commit: three free slots.
-  bool full() const { return ring_.capacity() - ring_.size() < 3; }
-  bool empty() const { return ring_.empty() && !has_pending_; }
-  std::size_t size() const { return ring_.size() + (has_pending_ ? 1 : 0); }
-  std::size_t capacity() const { return ring_.capacity() - 1; }
+  // Free slots for one push and the flush after it: five.
+  bool full() const { return ring_.capacity() - ring_.size() < kSpare + 1; }
+  bool empty() const { return ring_.empty() && !has_pending_ && !has_stage_; }
+  std::size_t size() const { return ring_.size() + (has_pending_ ? 1 : 0) + (has_stage_ ? 1 : 0); }
+  std::size_t capacity() const { return ring_.capacity() - kSpare; }
   // Drops everything planned, pending included (a fault, or the end of a stop).
   void clear() {
     ring_.clear();
     has_pending_ = false;
+    has_stage_ = false;
     unsettled_ = 0;
   }
 
@@ -60,6 +80,8 @@ class PlanQueue {
   Block pending_;
   double pending_full_length_ = 0;  // its length before the blend at its start shortened it
   bool has_pending_ = false;
+  MergeStage stage_;                // the line before the pending block's, still merging
+  bool has_stage_ = false;
   std::size_t unsettled_ = 0;  // blocks committed since the last settle()
 };
 

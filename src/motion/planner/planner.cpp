@@ -182,12 +182,105 @@ PlanResult Planner::push(const PathRequest& req) {
   if (!std::isfinite(sl.v_max_mm_s) || !std::isfinite(sl.a_max_mm_s2) || !(sl.v_max_mm_s > 0) ||
       !(sl.a_max_mm_s2 > 0))
     return PlanResult::Infeasible;
+  // Validated: now act. Lines pass through the merge stage; anything else first releases it.
+  if (queue_.has_stage_ && merge(req)) return PlanResult::Ok;
+  const PlanResult r = emit_stage();
+  if (r != PlanResult::Ok) return r;
+  const double tol = req.tolerance_mm < 0 ? config_.tolerance_mm : req.tolerance_mm;
+  if (req.geom.kind == SegmentKind::Line && tol > 0 && config_.merge_share > 0) {
+    stage(req);
+    return PlanResult::Ok;
+  }
+  return plan(req);
+}
+
+// rt-safe. Holds a line back: the next lines may still merge into it.
+void Planner::stage(const PathRequest& req) {
+  MergeStage& m = queue_.stage_;
+  m.geom = req.geom;
+  m.feed_mm_s = req.feed_mm_s;
+  m.tolerance_mm = req.tolerance_mm;
+  m.rapid = req.rapid;
+  m.profile = req.profile;
+  m.tag = req.tag;
+  m.tag_last = req.tag;
+  m.q_mm = kInf;
+  m.dev_mm = 0;
+  m.n = 0;
+  queue_.has_stage_ = true;
+}
+
+// rt-safe. Naive-CAM merge (LinuxCNC's G64 Q):
+//
+//   S ──●──●───●──● E ──► req          ● programmed corners, each within Q of the chord S → req's end,
+//   S ────────────────────► end        every piece moving forward along it: the chord is planned instead
+//
+// Every point of the chord then lies within Q of the programmed polyline (its points project in
+// order onto the chord, and between two corners the offset is a blend of theirs), and the blends at
+// the chord's ends stay within P of the programmed corners S and E: the whole path within max(Q, P).
+// Merging removes the short and noisy pieces of CAM polylines that otherwise force tiny blend radii.
+bool Planner::merge(const PathRequest& req) {
+  MergeStage& m = queue_.stage_;
+  const double tol = req.tolerance_mm < 0 ? config_.tolerance_mm : req.tolerance_mm;
+  if (req.geom.kind != SegmentKind::Line || !(tol > 0) || req.rapid != m.rapid || req.profile != m.profile ||
+      (!req.rapid && req.feed_mm_s != m.feed_mm_s) || m.n + 1 >= MergeStage::kMaxPoints)
+    return false;
+  const double q = std::min(m.q_mm, config_.merge_share * tol);
+  const Vec s = m.geom.start, e = req.geom.end;
+  const Vec chord = e - s;
+  const double len = core::norm(chord);
+  if (!(len > kMinLength_mm)) return false;
+  const Vec c = chord * (1 / len);
+  // The corner at the stage's end joins the merged points for the check.
+  m.points[m.n] = m.geom.end;
+  Vec prev = s;
+  double dev = 0;
+  for (std::size_t k = 0; k <= m.n; ++k) {
+    const Vec d = m.points[k] - s;
+    const double along = core::dot(d, c);
+    dev = std::max(dev, core::norm(d - c * along));
+    if (dev > q) return false;
+    if (!(core::dot(m.points[k] - prev, c) > 0)) return false;
+    prev = m.points[k];
+  }
+  if (!(core::dot(e - prev, c) > 0)) return false;
+  ++m.n;
+  m.q_mm = q;
+  m.dev_mm = dev;
+  m.geom = make_line(s, e);
+  m.tag_last = req.tag;
+  return true;
+}
+
+// rt-safe. Plans the held-back line (merged or not).
+PlanResult Planner::emit_stage() {
+  if (!queue_.has_stage_) return PlanResult::Ok;
+  queue_.has_stage_ = false;
+  const MergeStage& m = queue_.stage_;
+  PathRequest r;
+  r.geom = m.geom;
+  r.feed_mm_s = m.feed_mm_s;
+  r.rapid = m.rapid;
+  r.tag = m.tag;
+  r.tolerance_mm = m.tolerance_mm;
+  r.profile = m.profile;
+  return plan(r, m.dev_mm, m.tag_last);
+}
+
+// rt-safe. Plans a validated move in: blend with the pending block, commit, hold the new one pending.
+PlanResult Planner::plan(const PathRequest& req, double merge_dev_mm, std::uint32_t tag_last) {
+  const auto sl = segment_limits(req.geom, limits_, config_.centripetal_share);
+  if (!std::isfinite(sl.v_max_mm_s) || !std::isfinite(sl.a_max_mm_s2) || !(sl.v_max_mm_s > 0) ||
+      !(sl.a_max_mm_s2 > 0))
+    return PlanResult::Infeasible;
 
   Block b;
   b.seg = req.geom;
   b.rapid = req.rapid;
   b.tag = req.tag;
+  b.tag_last = std::max(req.tag, tag_last);
   b.length = req.geom.length;
+  b.merge_q_mm = merge_dev_mm;
   b.a_mm_s2 = sl.a_max_mm_s2;
   b.v_cap_mm_s = sl.v_max_mm_s;
   b.j_mm_s3 = req.profile == ProfileKind::Trapezoid ? kInf : sl.j_max_mm_s3;
@@ -196,7 +289,9 @@ PlanResult Planner::push(const PathRequest& req) {
 
   if (queue_.has_pending_) {
     Block& a = queue_.pending_;
-    const double tol = req.tolerance_mm < 0 ? config_.tolerance_mm : req.tolerance_mm;
+    // A merged line lies up to merge_q_mm off the program: the blend keeps the rest of P.
+    const double p_mm = req.tolerance_mm < 0 ? config_.tolerance_mm : req.tolerance_mm;
+    const double tol = p_mm - std::max(a.merge_q_mm, b.merge_q_mm);
     Block blend;
     bool blended = false;
     if (tol > 0 && !a.is_blend && a.seg.kind == SegmentKind::Line && b.seg.kind == SegmentKind::Line) {
@@ -231,6 +326,7 @@ PlanResult Planner::push(const PathRequest& req) {
           blend.rapid = a.rapid && b.rapid;
           blend.feed_mm_s = std::min(a.feed_mm_s, b.feed_mm_s);
           blend.tag = a.tag;
+          blend.tag_last = b.tag_last;  // it runs from a into b
           // Shorten both lines (same direction, so their limits stay).
           const Vec a_start = a.seg.start;
           a.seg = make_line(a_start, p1);
@@ -241,7 +337,7 @@ PlanResult Planner::push(const PathRequest& req) {
         }
       }
     }
-    if (!blended && tol > 0) kink(a, b);
+    if (!blended && p_mm > 0) kink(a, b);
     if (a.length > kMinLength_mm) commit(a);
     if (blended) commit(blend);
   }
@@ -281,6 +377,7 @@ void Planner::kink(Block& a, Block& b) const {
 
 // rt-safe
 void Planner::flush() {
+  emit_stage();  // validated when pushed: the merged line is inside the hull of what was checked
   if (!queue_.has_pending_) return;
   queue_.has_pending_ = false;
   if (queue_.pending_.length > kMinLength_mm) commit(queue_.pending_);

@@ -45,6 +45,10 @@ struct PlannerConfig {
   // within this share of each axis's acceleration/jerk per cycle; the neighbours keep the rest.
   double kink_share = 0.25;
   double min_kink_speed_mm_s = 1.0;  // below this the corner is an exact stop instead
+  // Naive-CAM merge (LinuxCNC's G64 Q): consecutive lines of one feed become one line while every
+  // programmed corner in between lies within Q = merge_share·P of it; 0 = off. With Q ≤ P the path
+  // stays within P of the program (docs/planner.md).
+  double merge_share = 0.5;
 };
 
 enum class PlanResult : std::uint8_t { Ok, QueueFull, BadFeed, OutsideTravel, Infeasible };
@@ -78,6 +82,10 @@ class Planner {
   double plan_cap_mm_s(const Block& b) const;
 
  private:
+  PlanResult plan(const PathRequest& req, double merge_dev_mm = 0, std::uint32_t tag_last = 0);
+  bool merge(const PathRequest& req);
+  void stage(const PathRequest& req);
+  PlanResult emit_stage();
   void commit(const Block& b);
   void kink(Block& a, Block& b) const;
 

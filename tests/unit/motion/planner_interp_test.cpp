@@ -54,15 +54,52 @@ TEST(Planner, P9_SoftLimitRefusesArcLeavingTravel) {
 
 TEST(Planner, QueueFullIsReported) {
   Planner p(xy_limits(), 3);
-  // Three lines with corners: the first corner commits the first line and a blend (2 of 3 blocks).
+  // Square corners: each line is held back (merge stage, then pending) before it commits with its
+  // blend, so the fourth push is the first to fill the window (two lines and two blends, 4 > 3 − 1).
   EXPECT_EQ(p.push({make_line(xy(0, 0), xy(1, 0)), 10, false, 0}), PlanResult::Ok);
   EXPECT_EQ(p.push({make_line(xy(1, 0), xy(1, 1)), 10, false, 1}), PlanResult::Ok);
+  EXPECT_EQ(p.queue().ring().size(), 0u);
+  EXPECT_EQ(p.push({make_line(xy(1, 1), xy(0, 1)), 10, false, 2}), PlanResult::Ok);
   EXPECT_EQ(p.queue().ring().size(), 2u);
+  EXPECT_FALSE(p.queue().full());
+  EXPECT_EQ(p.push({make_line(xy(0, 1), xy(0, 2)), 10, false, 3}), PlanResult::Ok);
+  EXPECT_EQ(p.queue().ring().size(), 4u);
   EXPECT_TRUE(p.queue().full());
-  EXPECT_EQ(p.push({make_line(xy(1, 1), xy(0, 1)), 10, false, 2}), PlanResult::QueueFull);
+  EXPECT_EQ(p.push({make_line(xy(0, 2), xy(1, 2)), 10, false, 4}), PlanResult::QueueFull);
   PathRequest r{make_line(xy(0, 0), xy(1, 0)), 10, false, 0};
   r.feed_mm_s = 0;
   EXPECT_EQ(Planner(xy_limits(), 2).push(r), PlanResult::BadFeed);
+}
+
+// Naive-CAM merge (G64 Q, Q = P/2): corners within Q of the chord disappear into one line; a corner
+// farther off, a feed change or a stop keeps them.
+TEST(Planner, MergeNearlyCollinearLinesWithinHalfP) {
+  Planner p(xy_limits(), 64);  // P = 0.05 mm: Q = 0.025 mm
+  double x = 0;
+  for (int k = 0; k < 10; ++k, x += 0.5)
+    ASSERT_EQ(p.push({make_line(xy(x, k % 2 ? 0.02 : 0), xy(x + 0.5, k % 2 ? 0 : 0.02)), 10, false,
+                      static_cast<std::uint32_t>(k)}),
+              PlanResult::Ok);
+  p.flush();
+  ASSERT_EQ(p.queue().ring().size(), 1u);  // ten zig-zag pieces 0.02 mm high: one line
+  EXPECT_EQ(p.queue().ring().front().seg.end, xy(5, 0));
+  EXPECT_NEAR(p.queue().ring().front().merge_q_mm, 0.02, 1e-12);  // the corners' distance, kept for blends
+
+  Planner q(xy_limits(), 64);
+  ASSERT_EQ(q.push({make_line(xy(0, 0), xy(0.5, 0)), 10, false, 0}), PlanResult::Ok);
+  ASSERT_EQ(q.push({make_line(xy(0.5, 0), xy(1, 0.06)), 10, false, 1}), PlanResult::Ok);   // 0.03 > Q off
+  ASSERT_EQ(q.push({make_line(xy(1, 0.06), xy(1.5, 0.06)), 20, false, 2}), PlanResult::Ok);  // new feed
+  q.flush();
+  EXPECT_EQ(q.queue().ring().size(), 5u);  // three lines, two blends
+
+  Planner c(xy_limits(), 64);
+  ASSERT_EQ(c.push({make_line(xy(0, 0), xy(0.5, 0)), 10, false, 0}), PlanResult::Ok);
+  c.queue().clear();  // a stop drops the held-back line too
+  EXPECT_TRUE(c.queue().empty());
+  ASSERT_EQ(c.push({make_line(xy(2, 0), xy(2.5, 0)), 10, false, 1}), PlanResult::Ok);
+  c.flush();
+  ASSERT_EQ(c.queue().ring().size(), 1u);
+  EXPECT_EQ(c.queue().ring().front().seg.start, xy(2, 0));
 }
 
 TEST(Interpolator, LineEndsExactlyAndRespectsLimits) {

@@ -219,3 +219,36 @@ TEST(PlannerJerk, T2_RoundedRectangleCrossesTangentJunctionsWithoutSlowing) {
     EXPECT_EQ(res.end, xyz(20, 10));
   }
 }
+
+// The guard's closed-form tail (InterpolatorConfig::guard_closed_form) is only a shortcut: where the
+// rest of the brake is one ramp that keeps every limit it stops simulating, with the same verdicts.
+// The setpoints must be bit-identical to the cycle-by-cycle simulation on random paths.
+TEST(PlannerJerk, GuardClosedFormTailGivesTheSameSetpoints) {
+  for (std::uint64_t seed = 1; seed <= 40; ++seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(0, 1);
+    const auto lim = jerk_limits(50 + 200 * u(rng), 300 + 3000 * u(rng), 5000 + 50000 * u(rng));
+    std::vector<PathRequest> reqs;
+    core::Vec at = xyz(0, 0, 0);
+    const int n = 5 + static_cast<int>(rng() % 30);
+    for (int k = 0; k < n; ++k) {
+      core::Vec to = at;
+      const double len = rng() % 3 ? 0.2 + 2 * u(rng) : 5 + 30 * u(rng);
+      const double ang = (u(rng) - 0.5) * (rng() % 2 ? 0.3 : 3.0);
+      to[0] += len * std::cos(ang + k * 0.2);
+      to[1] += len * std::sin(ang + k * 0.2);
+      reqs.push_back(line_req(at, to, 20 + 200 * u(rng), static_cast<std::uint32_t>(k), rng() % 4 ? 0.05 : 0.0));
+      at = to;
+    }
+    InterpolatorConfig sim, closed;
+    sim.guard_closed_form = false;
+    closed.guard_closed_form = true;
+    std::vector<core::Vec> a, b;
+    const auto ra = run_path(lim, reqs, 256, {}, {}, 20'000'000, sim, &a);
+    const auto rb = run_path(lim, reqs, 256, {}, {}, 20'000'000, closed, &b);
+    ASSERT_TRUE(ra.finished && rb.finished) << "seed " << seed;
+    ASSERT_EQ(a.size(), b.size()) << "seed " << seed;
+    for (std::size_t k = 0; k < a.size(); ++k) ASSERT_EQ(a[k], b[k]) << "seed " << seed << " cycle " << k;
+    expect_within(rb, 0.05, ("seed " + std::to_string(seed)).c_str());
+  }
+}

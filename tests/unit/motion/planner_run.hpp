@@ -25,11 +25,12 @@ using CycleHook = std::function<void(std::uint64_t, Interpolator&)>;
 
 inline RunResult run_path(const MachineLimits& lim, const std::vector<PathRequest>& reqs, std::size_t capacity,
                           const PlannerConfig& pc = {}, const CycleHook& hook = {},
-                          std::uint64_t max_cycles = 20'000'000) {
+                          std::uint64_t max_cycles = 20'000'000, const InterpolatorConfig& ic = {},
+                          std::vector<core::Vec>* trace = nullptr) {
   std::vector<Segment> path;
   for (const auto& r : reqs) path.push_back(r.geom);
   Planner planner(lim, capacity, pc);
-  Interpolator in(planner.queue(), reqs.empty() ? core::Vec{} : reqs.front().geom.start);
+  Interpolator in(planner.queue(), reqs.empty() ? core::Vec{} : reqs.front().geom.start, ic);
   TraceChecker chk(lim, lim.period_s, path);
   RunResult res;
   chk.add(in.setpoint().pos, 0);
@@ -53,6 +54,7 @@ inline RunResult run_path(const MachineLimits& lim, const std::vector<PathReques
     const auto& sp = in.step(lim.period_s);
     res.max_path_v = std::max(res.max_path_v, sp.path_v);
     chk.add(sp.pos, sp.tag);
+    if (trace) trace->push_back(sp.pos);
   }
   // Two more samples at rest: the checker sees the stop at the end.
   chk.add(in.step(lim.period_s).pos, in.setpoint().tag);
