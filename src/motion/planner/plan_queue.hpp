@@ -21,7 +21,7 @@ namespace softmc::motion {
 // A line held back before blending while the next lines may still merge into it (naive-CAM merge,
 // docs/planner.md): the request it will become, and the programmed points it stands for.
 struct MergeStage {
-  static constexpr std::size_t kMaxPoints = 64;  // bounds the work per push
+  static constexpr std::size_t kMaxPoints = 16;  // bounds the work per push
   Segment geom;                                  // the merged line: first start → last end
   double feed_mm_s = 0, tolerance_mm = -1;
   bool rapid = false;
