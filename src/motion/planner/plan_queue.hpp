@@ -14,7 +14,7 @@
 
 #include "core/ring.hpp"
 #include "motion/planner/block.hpp"
-#include "motion/profile/profile.hpp"
+#include "motion/planner/path_request.hpp"
 
 namespace softmc::motion {
 
@@ -22,11 +22,8 @@ namespace softmc::motion {
 // docs/planner.md): the request it will become, and the programmed points it stands for.
 struct MergeStage {
   static constexpr std::size_t kMaxPoints = 16;  // bounds the work per push
-  Segment geom;                                  // the merged line: first start → last end
-  double feed_mm_s = 0, tolerance_mm = -1;
-  bool rapid = false;
-  ProfileKind profile = ProfileKind::Scurve;
-  std::uint32_t tag = 0, tag_last = 0;  // the first and last instruction merged
+  PathRequest req;                               // the merged line (first start → last end), first tag
+  std::uint32_t tag_last = 0;                    // the last instruction merged
   double q_mm = 0;                               // largest distance a merged point may lie off the line
   double dev_mm = 0;                             // largest distance one does
   std::array<Vec, kMaxPoints> points{};          // programmed corners inside the merged line

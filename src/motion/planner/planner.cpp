@@ -197,12 +197,7 @@ PlanResult Planner::push(const PathRequest& req) {
 // rt-safe. Holds a line back: the next lines may still merge into it.
 void Planner::stage(const PathRequest& req) {
   MergeStage& m = queue_.stage_;
-  m.geom = req.geom;
-  m.feed_mm_s = req.feed_mm_s;
-  m.tolerance_mm = req.tolerance_mm;
-  m.rapid = req.rapid;
-  m.profile = req.profile;
-  m.tag = req.tag;
+  m.req = req;
   m.tag_last = req.tag;
   m.q_mm = kInf;
   m.dev_mm = 0;
@@ -222,17 +217,17 @@ void Planner::stage(const PathRequest& req) {
 bool Planner::merge(const PathRequest& req) {
   MergeStage& m = queue_.stage_;
   const double tol = req.tolerance_mm < 0 ? config_.tolerance_mm : req.tolerance_mm;
-  if (req.geom.kind != SegmentKind::Line || !(tol > 0) || req.rapid != m.rapid || req.profile != m.profile ||
-      (!req.rapid && req.feed_mm_s != m.feed_mm_s) || m.n + 1 >= MergeStage::kMaxPoints)
+  if (req.geom.kind != SegmentKind::Line || !(tol > 0) || req.rapid != m.req.rapid || req.profile != m.req.profile ||
+      (!req.rapid && req.feed_mm_s != m.req.feed_mm_s) || m.n + 1 >= MergeStage::kMaxPoints)
     return false;
   const double q = std::min(m.q_mm, config_.merge_share * tol);
-  const Vec s = m.geom.start, e = req.geom.end;
+  const Vec s = m.req.geom.start, e = req.geom.end;
   const Vec chord = e - s;
   const double len = core::norm(chord);
   if (!(len > kMinLength_mm)) return false;
   const Vec c = chord * (1 / len);
   // The corner at the stage's end joins the merged points for the check.
-  m.points[m.n] = m.geom.end;
+  m.points[m.n] = m.req.geom.end;
   Vec prev = s;
   double dev = 0;
   for (std::size_t k = 0; k <= m.n; ++k) {
@@ -247,7 +242,7 @@ bool Planner::merge(const PathRequest& req) {
   ++m.n;
   m.q_mm = q;
   m.dev_mm = dev;
-  m.geom = make_line(s, e);
+  m.req.geom = make_line(s, e);
   m.tag_last = req.tag;
   return true;
 }
@@ -257,14 +252,7 @@ PlanResult Planner::emit_stage() {
   if (!queue_.has_stage_) return PlanResult::Ok;
   queue_.has_stage_ = false;
   const MergeStage& m = queue_.stage_;
-  PathRequest r;
-  r.geom = m.geom;
-  r.feed_mm_s = m.feed_mm_s;
-  r.rapid = m.rapid;
-  r.tag = m.tag;
-  r.tolerance_mm = m.tolerance_mm;
-  r.profile = m.profile;
-  return plan(r, m.dev_mm, m.tag_last);
+  return plan(m.req, m.dev_mm, m.tag_last);
 }
 
 // rt-safe. Plans a validated move in: blend with the pending block, commit, hold the new one pending.

@@ -1,0 +1,23 @@
+// What the channel asks the planner for: one programmed move (docs/planner.md).
+#pragma once
+
+#include <cstdint>
+
+#include "motion/geometry/segment.hpp"
+#include "motion/profile/profile.hpp"
+
+namespace softmc::motion {
+
+struct PathRequest {
+  Segment geom;
+  double feed_mm_s = 0;  // requested path speed; ignored for rapids
+  bool rapid = false;
+  std::uint32_t tag = 0;        // the instruction index it came from, carried to the setpoints
+  double tolerance_mm = -1;     // blend tolerance P at the corner this move starts with:
+                                // < 0 = the configured default (G64 without P), 0 = exact stop (G61)
+  // Speed profile of this move: Scurve (default) keeps the axes' jerk limits; Trapezoid ignores them
+  // (acceleration may jump); Sine2 is executed as Scurve on paths (its smooth jerk is a 1-D feature).
+  ProfileKind profile = ProfileKind::Scurve;
+};
+
+}  // namespace softmc::motion
