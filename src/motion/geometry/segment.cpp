@@ -34,6 +34,7 @@ Segment make_arc(const Vec& start, const Vec& end, std::uint8_t axis0, std::uint
   s.c0 = c0;
   s.c1 = c1;
   s.radius = std::hypot(start[axis0] - c0, start[axis1] - c1);
+  s.dradius = std::hypot(end[axis0] - c0, end[axis1] - c1) - s.radius;
   s.theta0 = std::atan2(start[axis1] - c1, start[axis0] - c0);
   const double theta1 = std::atan2(end[axis1] - c1, end[axis0] - c0);
   const int n = std::abs(turns);
@@ -49,7 +50,21 @@ Segment make_arc(const Vec& start, const Vec& end, std::uint8_t axis0, std::uint
   Vec lin = end - start;
   lin[axis0] = 0;
   lin[axis1] = 0;
-  const double arc_len = s.radius * std::abs(s.sweep);
+  // In-plane length of the spiral r(φ) = r0 + dr·φ/|sweep|: ∫ √(r² + (dr/sweep)²) dφ, by 8-point
+  // Gauss–Legendre (the integrand is smooth and nearly constant: exact to rounding).
+  double arc_len = s.radius * std::abs(s.sweep);
+  if (s.dradius != 0) {
+    static constexpr double kX[4] = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267, 0.9602898564975363};
+    static constexpr double kW[4] = {0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763};
+    const double rp = s.dradius / std::abs(s.sweep);
+    arc_len = 0;
+    for (int k = 0; k < 4; ++k)
+      for (const double sg : {-1.0, 1.0}) {
+        const double f = 0.5 * (1 + sg * kX[k]);
+        arc_len += kW[k] * std::hypot(s.radius + s.dradius * f, rp);
+      }
+    arc_len *= 0.5 * std::abs(s.sweep);
+  }
   const double lin_len = core::norm(lin);
   s.length = std::hypot(arc_len, lin_len);
   if (s.length > 0) s.linear = lin * (1.0 / s.length);
@@ -63,9 +78,10 @@ Vec Segment::point(double s) const {
   if (kind == SegmentKind::Line) return start + dir * s;
   if (kind == SegmentKind::Poly) return poly.at(poly.param_at(s));
   const double th = theta0 + sweep * (s / length);
+  const double r = radius + dradius * (s / length);
   Vec p = start + linear * s;
-  p[axis0] = c0 + radius * std::cos(th);
-  p[axis1] = c1 + radius * std::sin(th);
+  p[axis0] = c0 + r * std::cos(th);
+  p[axis1] = c1 + r * std::sin(th);
   return p;
 }
 
@@ -74,11 +90,13 @@ Vec Segment::tangent(double s) const {
   if (kind == SegmentKind::Line) return dir;
   if (kind == SegmentKind::Poly) return unit_tangent(poly.derivs(poly.param_at(s)));
   if (length <= 0) return Vec{};
-  const double th = theta0 + sweep * (std::clamp(s, 0.0, length) / length);
-  const double k = radius * sweep / length;  // d(angle·r)/ds, signed
+  const double f = std::clamp(s, 0.0, length) / length;
+  const double th = theta0 + sweep * f;
+  const double k = (radius + dradius * f) * sweep / length;  // r·dθ/ds, signed
+  const double kr = dradius / length;                         // dr/ds
   Vec t = linear;
-  t[axis0] = -std::sin(th) * k;
-  t[axis1] = std::cos(th) * k;
+  t[axis0] = -std::sin(th) * k + std::cos(th) * kr;
+  t[axis1] = std::cos(th) * k + std::sin(th) * kr;
   return t;
 }
 
@@ -87,10 +105,13 @@ Vec Segment::curvature(double s) const {
   Vec k{};
   if (kind == SegmentKind::Line || length <= 0) return k;
   if (kind == SegmentKind::Poly) return curvature_vector(poly.derivs(poly.param_at(s)));
-  const double th = theta0 + sweep * (std::clamp(s, 0.0, length) / length);
+  const double f = std::clamp(s, 0.0, length) / length;
+  const double th = theta0 + sweep * f;
   const double w = sweep / length;  // d(angle)/ds
-  k[axis0] = -radius * w * w * std::cos(th);
-  k[axis1] = -radius * w * w * std::sin(th);
+  const double r = radius + dradius * f;
+  const double c = 2 * (dradius / length) * w;  // the spiral's 2·r'·θ' along the angle's direction
+  k[axis0] = -r * w * w * std::cos(th) - c * std::sin(th);
+  k[axis1] = -r * w * w * std::sin(th) + c * std::cos(th);
   return k;
 }
 
@@ -135,7 +156,9 @@ void Segment::bounds(Vec& lo, Vec& hi) const {
     hi[i] = std::max(start[i], end[i]);
   }
   if (kind != SegmentKind::Arc) return;
-  // The in-plane extremes lie at the quarter angles the sweep passes over.
+  // The in-plane extremes lie at the quarter angles the sweep passes over (a spiral: within its
+  // larger radius there).
+  const double radius = this->radius + std::max(0.0, dradius);
   if (std::abs(sweep) >= 2 * std::numbers::pi) {
     lo[axis0] = std::min(lo[axis0], c0 - radius);
     hi[axis0] = std::max(hi[axis0], c0 + radius);
@@ -189,8 +212,8 @@ Vec Segment::max_abs_tangent() const {
   }
   for (std::size_t i = 0; i < core::kMaxAxes; ++i) m[i] = std::abs(linear[i]);
   if (length <= 0) return m;
-  // The in-plane tangent is r·sweep/L·(-sin θ, cos θ).
-  const double k = radius * std::abs(sweep) / length;
+  // The in-plane tangent is r·sweep/L·(-sin θ, cos θ) (+ dr/L·(cos θ, sin θ) on a spiral).
+  const double k = arc_bounds().inplane;
   const double a0 = std::min(theta0, theta0 + sweep), a1 = std::max(theta0, theta0 + sweep);
   m[axis0] = k * max_abs_trig(a0, a1, std::numbers::pi / 2);
   m[axis1] = k * max_abs_trig(a0, a1, 0);
@@ -201,8 +224,24 @@ Vec Segment::max_abs_tangent() const {
 double Segment::max_curvature() const {
   if (kind == SegmentKind::Poly) return poly.max_curvature;
   if (kind == SegmentKind::Line || length <= 0) return 0;
-  const double w = sweep / length;
-  return radius * w * w;
+  return arc_bounds().kappa;
+}
+
+// rt-safe
+Segment::ArcBounds Segment::arc_bounds() const {
+  ArcBounds b;
+  if (kind != SegmentKind::Arc || !(length > 0)) return b;
+  const double w = std::abs(sweep) / length, rp = std::abs(dradius) / length;
+  const double r_max = radius + std::max(0.0, dradius), r_min = radius + std::min(0.0, dradius);
+  b.inplane = std::hypot(r_max * w, rp);
+  b.kappa = r_max * w * w + 2 * rp * w;
+  // tangent·curvature = r·r'·θ'² (zero on a circle); |a_t·T + w·K|² ≤ (1 + η)(a_t²|T|² + w²|K|²)
+  // with η = |T·K| / (|T|·|K|), so share = 1/√(1 + η).
+  if (rp > 0 && r_min > 0) {
+    const double eta = r_max * rp * w * w / (r_min * w * (r_min * w * w));
+    b.share = 1 / std::sqrt(1 + eta);
+  }
+  return b;
 }
 
 }  // namespace softmc::motion

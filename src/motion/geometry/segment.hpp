@@ -40,8 +40,12 @@ struct Segment {
 
   // Arc: plane axes, centre, radius, start angle and signed sweep (radians); the linear part of
   // the motion (axes outside the plane) is `end - start` restricted to those axes.
+  // The radius runs linearly from `radius` at the start to radius + dradius at the end: a
+  // programmed end point off the circle by the interpreter's allowance is reached exactly (a slight
+  // spiral, as LinuxCNC does), never by a jump at the arc's end. The angle and radius advance
+  // uniformly with s, so |tangent| differs from 1 by at most about |dradius|/(2·radius).
   std::uint8_t axis0 = 0, axis1 = 1;
-  double c0 = 0, c1 = 0, radius = 0, theta0 = 0, sweep = 0;
+  double c0 = 0, c1 = 0, radius = 0, theta0 = 0, sweep = 0, dradius = 0;
   Vec linear;  // per unit of s: d(pos)/ds for the axes outside the plane
 
   // Poly: the curve C(u) with its arc-length table (constructors in bezier.hpp, cubic_spline.hpp,
@@ -66,6 +70,15 @@ struct Segment {
   // sampled for Poly. rt-safe.
   Vec max_abs_tangent() const;
   double max_curvature() const;
+
+  // Arcs: bounds over the whole arc for the planner's limits. inplane ≥ |in-plane part of
+  // tangent(s)|, kappa ≥ |curvature(s)|, and share ≤ 1 such that
+  // |a_t·tangent + w·curvature| ≤ √(a_t²·inplane² + w²·kappa²) / share (1 on a true circle, where
+  // the two are orthogonal; a spiral's tangent and curvature are a little less than orthogonal).
+  struct ArcBounds {
+    double inplane = 0, kappa = 0, share = 1;
+  };
+  ArcBounds arc_bounds() const;
 };
 
 Segment make_line(const Vec& start, const Vec& end);

@@ -111,3 +111,30 @@ TEST(Geometry, MaxTangentAndCurvatureForThePlanner) {
   EXPECT_NEAR(h.max_abs_tangent()[0], 2 * std::numbers::pi * 10 / h.length, 1e-12);
   EXPECT_NEAR(h.max_abs_tangent()[2], 5 / h.length, 1e-12);
 }
+
+// An arc whose programmed end lies off the start circle (the interpreter allows a small difference,
+// as LinuxCNC does) is a slight spiral: it ends exactly on the programmed point with no jump, its
+// length is the spiral's to 1e-9, and tangent/curvature are the derivatives of point().
+TEST(Geometry, SpiralArcReachesAnEndOffTheCircleWithoutAJump) {
+  // plasma.ngc's notch: the end radius is 0.54 µm longer than the start radius.
+  const auto a = make_arc({31.62, 18.835}, {38.54, 14.839}, 0, 1, 35, 16.699, -1);
+  EXPECT_GT(std::abs(a.dradius), 5e-4);
+  EXPECT_LT(core::distance(a.point(a.length * (1 - 1e-12)), a.end), 1e-10);
+  // Length: the sum of many small chords converges to it.
+  double chords = 0;
+  const int n = 200000;
+  for (int k = 0; k < n; ++k) chords += core::distance(a.point(a.length * k / n), a.point(a.length * (k + 1) / n));
+  EXPECT_NEAR(chords / a.length, 1, 1e-9);
+  const double h = 1e-4;
+  for (double f : {0.1, 0.5, 0.9}) {
+    const double s = f * a.length;
+    const core::Vec d1 = (a.point(s + h) - a.point(s - h)) * (0.5 / h);
+    const core::Vec d2 = (a.point(s + h) - a.point(s) * 2 + a.point(s - h)) * (1 / (h * h));
+    EXPECT_LT(core::distance(d1, a.tangent(s)), 1e-8);
+    EXPECT_LT(core::distance(d2, a.curvature(s)), 1e-4);
+    EXPECT_LE(std::abs(a.tangent(s)[0]), a.max_abs_tangent()[0] + 1e-12);
+    EXPECT_LE(core::norm(a.curvature(s)), a.max_curvature() + 1e-12);
+  }
+  EXPECT_LT(a.arc_bounds().share, 1);
+  EXPECT_GT(a.arc_bounds().share, 0.999);
+}
