@@ -4,7 +4,8 @@
 #   bench/compare_linuxcnc.py [PROGRAM.ngc ...] [--build DIR] [--vel 100] [--acc 1000] [--jerk 10000]
 #                             [--tol 0.05] [--work DIR] [--reuse]
 #
-# For each program: one LinuxCNC run (/work/shared/tools/linuxcnc/lcnc_trace.sh, a headless
+# For each program: one LinuxCNC run (shared/tools/linuxcnc/lcnc_trace.sh beside the checkout, or
+# $LCNC_TRACE; a headless
 # linuxcnc-uspace on a simulated XYZ trivkins machine; it takes the program's real time), and two
 # softmc runs in virtual time on the same axes (v, a per axis, travel ±1000 mm, the same G64 P):
 # jerk limiting off (trapezoids, as LinuxCNC plans) and on (max_jerk_mm_s3 = --jerk on every axis).
@@ -31,7 +32,7 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, ".."))
-LCNC = "/work/shared/tools/linuxcnc/lcnc_trace.sh"
+LCNC = os.environ.get("LCNC_TRACE", os.path.join(ROOT, "..", "shared", "tools", "linuxcnc", "lcnc_trace.sh"))
 AXES = "xyz"
 
 

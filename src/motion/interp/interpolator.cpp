@@ -28,13 +28,33 @@ Interpolator::Inputs Interpolator::inputs(const Block& b) const {
   Inputs in;
   const bool h = halt();
   in.vc = h ? 0.0 : soft_speed(b);
-  in.acc = b.a_mm_s2 * (stop_ == StopKind::Emergency ? config_.emergency_accel_scale : 1.0);
+  in.acc_scale = stop_ == StopKind::Emergency ? config_.emergency_accel_scale : 1.0;
   if (ring.size() >= 2) {
     const Block& next = ring.at(1);
     in.v1_max = std::sqrt(next.v2_entry_max);
     in.v1_want = h ? 0.0 : std::min(in.vc, soft_speed(next));
   }
   return in;
+}
+
+// rt-safe. The acceleration of a ramp over `dist` from v0 (plan_ramp's cases): the law's value at the
+// highest speed² the ramp reaches, so that every point of it keeps the law (tangent_law.hpp).
+double Interpolator::ramp_acc(const TangentLaw& law, double dist, double v0, const Inputs& in) {
+  const double w0 = v0 * v0;
+  const double vc = std::max(0.0, in.vc);
+  if (v0 > vc) return law.at(w0);  // brakes from v0: v0 is the highest speed
+  const double v1 = std::min({in.v1_want, in.v1_max, vc});
+  const double w1 = v1 * v1;
+  const double wp = law.root(0.5 * (w0 + w1), dist);  // where an accelerating and a braking ramp meet
+  if (wp >= vc * vc) return law.at(vc * vc);          // they meet above the cruise speed: cruise
+  if (wp >= std::max(w0, w1)) return law.at(wp);
+  if (w1 > w0) return law.at(std::min(w1, law.root(w0, 2 * dist)));  // accelerates all the way
+  return law.at(w0);                                                  // brakes all the way
+}
+// rt-safe. A cruise at a curve's very cap leaves no tangential acceleration: a floor far below any
+// real axis keeps plan_ramp's divisions finite.
+double Interpolator::ramp_acc_floor(const TangentLaw& law, double dist, double v0, const Inputs& in) {
+  return std::max(ramp_acc(law, dist, v0, in), 1e-6);
 }
 
 // rt-safe. A new plan for the rest of `b` from the state sampled now.
@@ -45,7 +65,22 @@ void Interpolator::replan(const Block& b, const Inputs& in) {
     s = st.s;
     v_ = st.v;
   }
-  ramp_ = plan_ramp(b.length - s, v_, in.vc, in.v1_want, in.v1_max, in.acc);
+  const double dist = b.length - s;
+  ramp_ = plan_ramp(dist, v_, in.vc, in.v1_want, in.v1_max, in.acc_scale * ramp_acc_floor(b.law, dist, v_, in));
+  if (b.law.n > 0 && !halt()) {
+    // On a curve a lower cruise speed buys more tangential acceleration for the ramps to it (g falls
+    // as the speed rises): a few cruise speeds between the fixed split's cap and the curve's own cap
+    // are tried, and the quickest plan over the rest of the block wins.
+    const double w_lo = b.v_split_mm_s * b.v_split_mm_s, w_hi = b.v_cap_mm_s * b.v_cap_mm_s;
+    for (const double f : {0.0, 0.5, 0.75, 0.9}) {
+      Inputs c = in;
+      c.vc = std::sqrt(w_lo + f * (w_hi - w_lo));
+      if (!(c.vc < in.vc) || !(c.vc > v_)) continue;
+      c.v1_want = std::min(c.v1_want, c.vc);
+      const VelocityRamp r = plan_ramp(dist, v_, c.vc, c.v1_want, c.v1_max, in.acc_scale * ramp_acc_floor(b.law, dist, v_, c));
+      if (r.duration() < ramp_.duration()) ramp_ = r;
+    }
+  }
   ramp_.s0 = s;
   t_ = 0;
   in_ = in;

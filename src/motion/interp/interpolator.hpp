@@ -80,13 +80,15 @@ class Interpolator {
 
  private:
   struct Inputs {
-    double vc = 0, v1_want = 0, v1_max = 0, acc = 0;
+    double vc = 0, v1_want = 0, v1_max = 0, acc_scale = 1;
     friend bool operator==(const Inputs&, const Inputs&) = default;
   };
   bool halt() const { return hold_ || !enable_ || stop_ != StopKind::None; }
   double soft_speed(const Block& b) const;
   Inputs inputs(const Block& b) const;
   void replan(const Block& b, const Inputs& in);
+  static double ramp_acc(const TangentLaw& law, double dist, double v0, const Inputs& in);
+  static double ramp_acc_floor(const TangentLaw& law, double dist, double v0, const Inputs& in);
   void rest_at_end();
   const Setpoint& step_jerk(double dt);
 

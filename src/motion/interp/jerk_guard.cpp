@@ -100,7 +100,8 @@ double JerkGuard::jerk(std::size_t k) const {
 
 double JerkGuard::soft(std::size_t k) const {
   if (halt_) return kInf;
-  double s = soft_speed(ring_.at(k), override_);
+  // v_split_mm_s: a block without a jerk limit keeps a_mm_s2 only up to there (Block).
+  double s = std::min(soft_speed(ring_.at(k), override_), ring_.at(k).v_split_mm_s);
   if (!(s > 0)) return kInf;  // override 0: the ramp to the cruise speed 0 stops the path
   if (k == 0) s = std::max(s, v_now_);  // already faster (the override dropped): only the ramp down is asked
   return s;
@@ -137,8 +138,8 @@ bool JerkGuard::check(Cursor& c, double p0, double v0, const PathStep& st, Guard
     const std::size_t k = c.k;
     const Block& b = ring_.at(k);
     const double here = std::max(p0, c.start);
-    if (over(st.j_abs, jerk(k)) || over(st.a_abs, acc(k)) || over(st.v_peak, b.v_cap_mm_s))
-      return fail(verdict, true, here, b.v_cap_mm_s, false);
+    if (over(st.j_abs, jerk(k)) || over(st.a_abs, acc(k)) || over(st.v_peak, b.v_split_mm_s))
+      return fail(verdict, true, here, b.v_split_mm_s, false);
     if (over(st.v_peak, soft(k))) return fail(verdict, false, here, soft(k), false);
     const double end = c.start + b.length;
     if (p1 < end - kTouch_mm) return true;  // the cycle ends inside block k
@@ -156,7 +157,7 @@ bool JerkGuard::check(Cursor& c, double p0, double v0, const PathStep& st, Guard
     }
     c = {k + 1, end};
     if (!cross) {  // lands on the start of k + 1: its limits hold from here
-      if (over(std::abs(st.x.a), acc(k + 1)) || over(st.x.v, nb.v_cap_mm_s)) return fail(verdict, true, end, u, false);
+      if (over(std::abs(st.x.a), acc(k + 1)) || over(st.x.v, nb.v_split_mm_s)) return fail(verdict, true, end, u, false);
       if (over(st.x.v, soft(k + 1))) return fail(verdict, false, end, soft(k + 1), false);
       return true;
     }
@@ -238,7 +239,7 @@ bool JerkGuard::tail_safe(const ProfileState& x, double p, const Cursor& c) cons
         return false;
       }
     }
-    if (start <= entered + kTouch_mm && (b.v_cap_mm_s < v_up || soft(k) < v_up)) return false;
+    if (start <= entered + kTouch_mm && (b.v_split_mm_s < v_up || soft(k) < v_up)) return false;
     const double end = start + b.length;
     if (end > scanned) return end > entered + kTouch_mm;  // the rest of π ends inside this block
     start = end;

@@ -11,6 +11,7 @@
 
 #include "core/axes.hpp"
 #include "motion/geometry/segment.hpp"
+#include "motion/planner/tangent_law.hpp"
 
 namespace softmc::motion {
 
@@ -41,9 +42,13 @@ struct Block {
 
   double merge_q_mm = 0;      // a merged line: largest distance of the programmed corners it replaces
   double length = 0;          // mm
-  double a_mm_s2 = 0;         // path acceleration every axis allows along the whole block
+  double a_mm_s2 = 0;         // path acceleration every axis allows along the whole block at any speed
+                              // up to v_split_mm_s (the jerk follower's limit)
+  TangentLaw law;             // tangential acceleration allowed at each speed (backward pass and the
+                              // trapezoid interpolator); on jerk blocks the constant a_mm_s2
   double j_mm_s3 = 0;         // path jerk every axis allows (infinite: no jerk limit, trapezoid)
   double v_cap_mm_s = 0;      // path speed every axis allows (hard: never exceeded, whatever the override)
+  double v_split_mm_s = 0;    // the speed up to which a_mm_s2 holds (= v_cap_mm_s on jerk blocks)
   double feed_mm_s = 0;       // programmed feed (infinite for rapids): the override scales it
   double v2_kink = 0;         // (mm/s)²: speed a non-tangent, unblended corner at its start allows
   double v2_junction = 0;     // (mm/s)²: entry speed the junction with the previous block allows

@@ -59,7 +59,7 @@ class PlanQueue {
     const std::size_t n = ring_.size();
     for (std::size_t k = n; k-- > 0;) {
       Block& b = ring_.at(k);
-      const double e2 = std::min(b.v2_junction, exit2 + 2 * b.a_mm_s2 * b.length);
+      const double e2 = std::min(b.v2_junction, b.law.root(exit2, 2 * b.length));
       if (k + unsettled_ < n && e2 == b.v2_entry_max) break;
       b.v2_entry_max = e2;
       exit2 = e2;

@@ -63,13 +63,13 @@ SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double 
     // Arc: the tangent turns through every direction of the plane, so an in-plane axis may carry the
     // whole in-plane speed. An in-plane axis sees a_t·t_i + κv²·n_i; with a_t·inplane ≤ ct·a and
     // κv² ≤ cn·a its magnitude stays ≤ √(ct² + cn²)·a = a.
-    const double inplane = g.length > 0 ? g.radius * std::abs(g.sweep) / g.length : 0;
-    const double kappa = g.length > 0 ? g.radius * (g.sweep / g.length) * (g.sweep / g.length) : 0;
+    const auto ab = g.arc_bounds();  // a spiral (end off the circle) bounds its tangent and curvature
+    const double inplane = ab.inplane, kappa = ab.kappa;
     for (std::size_t i : {std::size_t{g.axis0}, std::size_t{g.axis1}}) {
       if (inplane < 1e-12) break;
       v = std::min(v, lim.axis[i].v_max_mm_s / inplane);
-      a = std::min(a, ct * lim.axis[i].a_max_mm_s2 / inplane);
-      if (kappa > 0) v = std::min(v, std::sqrt(cn * lim.axis[i].a_max_mm_s2 / kappa));
+      a = std::min(a, ct * ab.share * lim.axis[i].a_max_mm_s2 / inplane);
+      if (kappa > 0) v = std::min(v, std::sqrt(cn * ab.share * lim.axis[i].a_max_mm_s2 / kappa));
       curve_jerk(l, lim.axis[i].j_max_mm_s3, inplane, 1.0, kappa);
     }
     for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
@@ -150,6 +150,86 @@ SegmentLimits blend_limits(const BlendArc& b, const MachineLimits& lim, double c
   for (std::size_t i = 0; i < core::kMaxAxes; ++i)
     if (nmax[i] >= 1e-12) curve_jerk_acc(l, lim.axis[i].j_max_mm_s3, nmax[i], kappa);
   return l;
+}
+
+namespace {
+constexpr double kTiny = 1e-12;
+}  // namespace
+
+// rt-safe
+CurveLaw segment_law(const Segment& g, const MachineLimits& lim) {
+  CurveLaw c;
+  TangentLaw& l = c.law;
+  double v = kInf;
+  const auto linear_axes = [&](const Vec& dir) {
+    for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
+      const double d = std::abs(dir[i]);
+      if (d < kTiny) continue;
+      v = std::min(v, lim.axis[i].v_max_mm_s / d);
+      l.a_const = std::min(l.a_const, lim.axis[i].a_max_mm_s2 / d);
+    }
+  };
+  if (g.kind == SegmentKind::Line) {
+    linear_axes(g.dir);
+  } else if (g.kind == SegmentKind::Arc) {
+    // In-plane axis: |a_t·inplane·τ_i + v²κ·ν_i| ≤ √((a_t·inplane)² + (v²κ)²) ≤ A_i (τ, ν unit and one
+    // phase apart) → a_t ≤ √(A_i² − κ²w²) / inplane.
+    const auto ab = g.arc_bounds();
+    const double inplane = ab.inplane, kappa = ab.kappa;
+    if (inplane >= kTiny)
+      for (std::size_t i : {std::size_t{g.axis0}, std::size_t{g.axis1}}) {
+        const double amax = ab.share * lim.axis[i].a_max_mm_s2;
+        v = std::min(v, lim.axis[i].v_max_mm_s / inplane);
+        TangentTerm t;
+        t.c = amax / inplane;
+        t.d = kappa / inplane;
+        l.add(t);
+        if (kappa > 0) l.w_cap = std::min(l.w_cap, amax / kappa);
+      }
+    linear_axes(g.linear);
+  } else {
+    // Poly: a_t·T_i + v²κ_max ≤ A_i with the sampled largest tangent share and curvature (additive:
+    // a general curve's tangent and normal are not one phase apart).
+    const Vec tmax = g.max_abs_tangent();
+    const double kappa = g.max_curvature();
+    for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
+      if (tmax[i] < kTiny) continue;
+      const double amax = lim.axis[i].a_max_mm_s2;
+      v = std::min(v, lim.axis[i].v_max_mm_s / tmax[i]);
+      TangentTerm t;
+      t.alpha = amax / tmax[i];
+      t.beta = kappa / tmax[i];
+      l.add(t);
+      if (kappa > 0) l.w_cap = std::min(l.w_cap, amax / kappa);
+    }
+  }
+  c.v_max_mm_s = std::min(v, std::sqrt(l.w_cap));
+  return c;
+}
+
+// rt-safe. The blend's law per axis is the better of the sweep and circle bounds (blend_limits).
+CurveLaw blend_law(const BlendArc& b, const MachineLimits& lim) {
+  CurveLaw c;
+  TangentLaw& l = c.law;
+  const double kappa = 1 / b.radius;
+  double v = kInf;
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
+    const double tm = max_abs_over(b.w[i], -b.u[i], b.sweep);
+    const double nm = max_abs_over(b.u[i], b.w[i], b.sweep);
+    if (tm < kTiny && nm < kTiny) continue;
+    const double amax = lim.axis[i].a_max_mm_s2;
+    if (nm >= kTiny) l.w_cap = std::min(l.w_cap, amax / (kappa * nm));  // a_t = 0, sweep bound
+    if (tm < kTiny) continue;  // only the normal loads this axis: the cap is all
+    v = std::min(v, lim.axis[i].v_max_mm_s / tm);
+    TangentTerm t;
+    t.alpha = amax / tm;
+    t.beta = kappa * nm / tm;
+    t.c = amax / std::hypot(b.u[i], b.w[i]);
+    t.d = kappa;
+    l.add(t);
+  }
+  c.v_max_mm_s = std::min(v, std::sqrt(l.w_cap));
+  return c;
 }
 
 Planner::Planner(const MachineLimits& limits, std::size_t queue_capacity, const PlannerConfig& config)
@@ -255,6 +335,18 @@ PlanResult Planner::emit_stage() {
   return plan(m.req, m.dev_mm, m.tag_last);
 }
 
+// rt-safe. A trapezoid block (no jerk limit) runs on its speed-dependent law, capped where the
+// centripetal acceleration alone reaches an axis's limit; a jerk block keeps the fixed split, which
+// the jerk follower's limits assume. a_mm_s2 and v_split_mm_s keep the split for either.
+void Planner::set_law(Block& b, const CurveLaw& c) const {
+  if (std::isinf(b.j_mm_s3) && config_.speed_dependent_tangential) {
+    b.law = c.law;
+    b.v_cap_mm_s = c.v_max_mm_s;
+  } else {
+    b.law = TangentLaw::constant(b.a_mm_s2);
+  }
+}
+
 // rt-safe. Plans a validated move in: blend with the pending block, commit, hold the new one pending.
 PlanResult Planner::plan(const PathRequest& req, double merge_dev_mm, std::uint32_t tag_last) {
   const auto sl = segment_limits(req.geom, limits_, config_.centripetal_share);
@@ -271,7 +363,9 @@ PlanResult Planner::plan(const PathRequest& req, double merge_dev_mm, std::uint3
   b.merge_q_mm = merge_dev_mm;
   b.a_mm_s2 = sl.a_max_mm_s2;
   b.v_cap_mm_s = sl.v_max_mm_s;
+  b.v_split_mm_s = sl.v_max_mm_s;
   b.j_mm_s3 = req.profile == ProfileKind::Trapezoid ? kInf : sl.j_max_mm_s3;
+  set_law(b, segment_law(req.geom, limits_));
   b.feed_mm_s = req.rapid ? kInf : req.feed_mm_s;
   const double full_length = b.length;
 
@@ -310,7 +404,9 @@ PlanResult Planner::plan(const PathRequest& req, double merge_dev_mm, std::uint3
           const auto bl = blend_limits(blend.blend, limits_, config_.centripetal_share);
           blend.a_mm_s2 = bl.a_max_mm_s2;
           blend.v_cap_mm_s = bl.v_max_mm_s;
+          blend.v_split_mm_s = bl.v_max_mm_s;
           blend.j_mm_s3 = std::isinf(a.j_mm_s3) && std::isinf(b.j_mm_s3) ? kInf : bl.j_max_mm_s3;
+          set_law(blend, blend_law(blend.blend, limits_));
           blend.rapid = a.rapid && b.rapid;
           blend.feed_mm_s = std::min(a.feed_mm_s, b.feed_mm_s);
           blend.tag = a.tag;
@@ -357,8 +453,10 @@ void Planner::kink(Block& a, Block& b) const {
   if (!(v >= config_.min_kink_speed_mm_s)) return;  // too slow to be worth the lost acceleration: stop
   const double keep = 1 - config_.kink_share;
   a.a_mm_s2 *= keep;
+  a.law.scale *= keep;
   a.j_mm_s3 *= keep;
   b.a_mm_s2 *= keep;
+  b.law.scale *= keep;
   b.j_mm_s3 *= keep;
   b.v2_kink = v * v;
 }

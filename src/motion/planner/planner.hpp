@@ -29,7 +29,10 @@ struct PlannerConfig {
   double tangent_rad = 1e-9;        // junctions turning less than this are tangent (no blend, no stop)
   // Split of an axis's acceleration on curved pieces: centripetal share cn, tangential share ct,
   // cn² + ct² = 1 so that |a_t·t_i + a_n·n_i| ≤ a_max_i at every point of a circle.
+  // Jerk blocks only: trapezoid blocks use the speed-dependent law (tangent_law.hpp) unless
+  // speed_dependent_tangential is false (then the split applies to them too).
   double centripetal_share = 0.8;
+  bool speed_dependent_tangential = true;
   // Corners that are not blended but nearly tangent (arcs in rounded G-code) are crossed at speed
   // within this share of each axis's acceleration/jerk per cycle; the neighbours keep the rest.
   double kink_share = 0.25;
@@ -51,6 +54,16 @@ struct SegmentLimits {
 };
 SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double centripetal_share = 0.8);
 SegmentLimits blend_limits(const BlendArc& b, const MachineLimits& lim, double centripetal_share = 0.8);
+
+// Trapezoid blocks (no jerk limit) use the speed-dependent law instead of the fixed split
+// (tangent_law.hpp): the law, and the speed cap where the centripetal acceleration alone takes some
+// axis's whole limit (or its speed limit is reached).
+struct CurveLaw {
+  TangentLaw law;
+  double v_max_mm_s = 0;
+};
+CurveLaw segment_law(const Segment& g, const MachineLimits& lim);
+CurveLaw blend_law(const BlendArc& b, const MachineLimits& lim);
 
 class Planner {
  public:
@@ -77,6 +90,7 @@ class Planner {
   PlanResult emit_stage();
   void commit(const Block& b);
   void kink(Block& a, Block& b) const;
+  void set_law(Block& b, const CurveLaw& c) const;
 
   MachineLimits limits_;
   PlannerConfig config_;
