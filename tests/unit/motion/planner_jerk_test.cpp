@@ -65,11 +65,7 @@ TEST(PlannerJerk, TinyBlocksRampAcrossBlockEnds) {
 TEST(PlannerJerk, CornersAndArcsKeepJerkAndTolerance) {
   const auto lim = jerk_limits(100, 1000, 20000);
   std::vector<PathRequest> reqs{line_req(xyz(0, 0), xyz(30, 0), 80, 0, 0.05), line_req(xyz(30, 0), xyz(30, 30), 80, 1, 0.05)};
-  PathRequest arc;
-  arc.geom = make_arc(xyz(30, 30), xyz(10, 30), 0, 1, 20, 30, 1);
-  arc.feed_mm_s = 80;
-  arc.tag = 2;
-  reqs.push_back(arc);
+  reqs.push_back(arc_req(make_arc(xyz(30, 30), xyz(10, 30), 0, 1, 20, 30, 1), 80, 2));
   reqs.push_back(line_req(xyz(10, 30), xyz(10, 0), 80, 3, 0.05));
   const auto res = run_path(lim, reqs, 64);
   expect_within(res, 0.05, "corners");
@@ -250,5 +246,59 @@ TEST(PlannerJerk, GuardClosedFormTailGivesTheSameSetpoints) {
     ASSERT_EQ(a.size(), b.size()) << "seed " << seed;
     for (std::size_t k = 0; k < a.size(); ++k) ASSERT_EQ(a[k], b[k]) << "seed " << seed << " cycle " << k;
     expect_within(rb, 0.05, ("seed " + std::to_string(seed)).c_str());
+  }
+}
+
+// A centre-format arc whose end point is off the circle through its start (G2/G3 allow that, within
+// LinuxCNC's radius allowance, docs/gcode.md) must still end exactly on its end point: the geometry
+// is continuous there, so the setpoints never jump. Before, the arc kept the start radius and only
+// its last point was the end point: on plasma.ngc (outline arcs with end radii 5.4e-4 mm off) every
+// exact stop at their ends showed a one-sample jump of the radius difference, ~50× the jerk limit
+// (0.025 mm, near the allowance on small arcs, breaks the acceleration limit too, with or without
+// jerk limits). Cases: the plasma outline's G3 (R 50, end 5.4e-4 mm outside) into its sharp corner;
+// a small arc (R 1.5 → 1.475) into a corner; a spiral crossed at speed (below).
+TEST(PlannerJerk, ArcWithItsEndOffTheStartCircleReachesItsEndWithoutAJump) {
+  {
+    const auto lim = jerk_limits(100, 1000, 10000);
+    std::vector<PathRequest> reqs{line_req(xyz(114.84, 63.996), xyz(109.84, 63.996), 100, 0, 0.05)};
+    reqs.push_back(arc_req(make_arc(xyz(109.84, 63.996), xyz(105.161, 81.46), 0, 1, 60, 60, 1), 100, 1));
+    reqs.push_back(line_req(xyz(105.161, 81.46), xyz(100, 90), 100, 2, 0.05));
+    const auto res = run_path(lim, reqs, 64);
+    expect_within(res, 0.05, "R50 arc into a corner");
+    EXPECT_EQ(res.end, xyz(100, 90));
+  }
+  for (const double jerk : {0.0, 10000.0}) {  // jerk 0: trapezoids
+    const auto lim = jerk_limits(100, 1000, jerk);
+    // Centre (10, 1.5): starts on R 1.5, ends at R 1.475 after a quarter turn, then a line on at
+    // about 1° to the arc's end tangent (too sharp for a kink speed: an exact stop).
+    std::vector<PathRequest> reqs{line_req(xyz(0, 0), xyz(10, 0), 50, 0, 0.05)};
+    reqs.push_back(arc_req(make_arc(xyz(10, 0), xyz(11.475, 1.5), 0, 1, 10, 1.5, 1), 50, 1));
+    reqs.push_back(line_req(xyz(11.475, 1.5), xyz(11.475, 10), 50, 2, 0.05));
+    const auto res = run_path(lim, reqs, 64);
+    const std::string what = "R1.5 arc into a corner, jerk " + std::to_string(jerk);
+    expect_within(res, 1e-9, what.c_str());
+    EXPECT_EQ(res.end, xyz(11.475, 10)) << what;
+  }
+  // Crossed at speed, and planned with the spiral's own shares: R 50 → 50.05 (the allowance),
+  // cruising at the X axis's speed limit where the tangent is +X (the spiral's in-plane tangent is
+  // longer than r0·sweep/length by about Δr/2r: 5e-4 over the limit if planned as the start circle),
+  // into a line along its end tangent.
+  for (const double jerk : {0.0, 10000.0}) {
+    const auto lim = jerk_limits(100, 1000, jerk);
+    const double q = std::numbers::pi / 4;
+    const core::Vec a0 = xyz(-50 * std::cos(q), 50 - 50 * std::sin(q));
+    const core::Vec a1 = xyz(50.05 * std::cos(q), 50 - 50.05 * std::sin(q));
+    PathRequest arc;
+    arc.geom = make_arc(a0, a1, 0, 1, 0, 50, 1);
+    arc.feed_mm_s = 200;
+    arc.tag = 1;
+    const core::Vec t0 = arc.geom.tangent(0), t1 = arc.geom.tangent(arc.geom.length);
+    std::vector<PathRequest> reqs{line_req(a0 - t0 * 60.0, a0, 200, 0)};
+    reqs.push_back(arc);
+    reqs.push_back(line_req(a1, a1 + t1 * 60.0, 200, 2));
+    const auto res = run_path(lim, reqs, 64);
+    const std::string what = "R50 spiral at the speed limit, jerk " + std::to_string(jerk);
+    expect_within(res, 1e-9, what.c_str());
+    EXPECT_GT(res.fig.v_ratio, 0.999) << what;  // the limit is reached, not avoided
   }
 }

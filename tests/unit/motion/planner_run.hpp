@@ -90,4 +90,13 @@ inline PathRequest line_req(const core::Vec& a, const core::Vec& b, double feed,
   return r;
 }
 
+// An arc request (make_arc's arguments) at `feed`, tagged.
+inline PathRequest arc_req(const Segment& arc, double feed, std::uint32_t tag) {
+  PathRequest r;
+  r.geom = arc;
+  r.feed_mm_s = feed;
+  r.tag = tag;
+  return r;
+}
+
 }  // namespace softmc::motion::testing
