@@ -297,12 +297,22 @@ double PolyCurve::finalize() {
   // Sampled maxima of |T_i| and |κ| for the planner.
   max_abs_tangent = Vec{};
   max_curvature = 0;
+  max_dcurvature = 0;
   constexpr int kSamples = 1024;
+  Vec k_prev;
+  double sp_prev = 0;
   for (int i = 0; i <= kSamples; ++i) {
     const CurveDerivs d = derivs(static_cast<double>(i) / kSamples);
     const Vec t = unit_tangent(d);
     for (std::size_t a = 0; a < core::kMaxAxes; ++a) max_abs_tangent[a] = std::max(max_abs_tangent[a], std::abs(t[a]));
-    max_curvature = std::max(max_curvature, core::norm(curvature_vector(d)));
+    const Vec k = curvature_vector(d);
+    max_curvature = std::max(max_curvature, core::norm(k));
+    // dκ/ds between samples: Δκ over the arc length between them (trapezoid rule on |C'|).
+    const double sp = std::sqrt(core::dot(d.d1, d.d1));
+    const double ds = 0.5 * (sp + sp_prev) / kSamples;
+    if (i > 0 && ds > 1e-300) max_dcurvature = std::max(max_dcurvature, core::norm(k - k_prev) / ds);
+    k_prev = k;
+    sp_prev = sp;
   }
   return err;
 }

@@ -62,6 +62,7 @@ struct PolyCurve {
   // planner's speed limits; a sampled maximum, not a proof).
   Vec max_abs_tangent;
   double max_curvature = 0;
+  double max_dcurvature = 0;  // largest |dκ/ds| of the curvature vector (1/mm²), sampled likewise
 
   PolyCurve() {}
 

@@ -36,10 +36,11 @@ void curve_jerk(SegmentLimits& l, double j_axis, double amp_t, double amp_n, dou
   if (amp_t > 1e-12) l.j_max_mm_s3 = std::min(l.j_max_mm_s3, 0.5 * j_axis / amp_t);
   if (kappa > 0 && amp_n > 1e-12) l.v_max_mm_s = std::min(l.v_max_mm_s, std::cbrt(0.25 * j_axis / (kappa * kappa * amp_n)));
 }
-// The 3·v·a_t·κ term, once the speed cap is known.
-void curve_jerk_acc(SegmentLimits& l, double j_axis, double amp_n, double kappa) {
+// The 3·v·a_t·κ term, once the speed cap is known (`share` of j_max: a quarter; an eighth on Poly
+// curves, whose other eighth goes to v³·dκ/ds).
+void curve_jerk_acc(SegmentLimits& l, double j_axis, double amp_n, double kappa, double share = 0.25) {
   if (!(j_axis > 0) || !(kappa > 0) || amp_n < 1e-12 || !std::isfinite(l.v_max_mm_s)) return;
-  l.a_max_mm_s2 = std::min(l.a_max_mm_s2, 0.25 * j_axis / (3 * l.v_max_mm_s * kappa * amp_n));
+  l.a_max_mm_s2 = std::min(l.a_max_mm_s2, share * j_axis / (3 * l.v_max_mm_s * kappa * amp_n));
 }
 
 }  // namespace
@@ -95,9 +96,12 @@ SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double 
       a = std::min(a, (1 - cn) * ax.a_max_mm_s2 / d);
       if (kappa > 0) v = std::min(v, std::sqrt(cn * ax.a_max_mm_s2 / kappa));
       curve_jerk(l, ax.j_max_mm_s3, d, 1.0, kappa);
+      // A general curve's curvature changes along it: v³·dκ/ds loads the axes too.
+      if (ax.j_max_mm_s3 > 0 && g.poly.max_dcurvature > 0)
+        v = std::min(v, std::cbrt(0.125 * ax.j_max_mm_s3 / g.poly.max_dcurvature));
     }
     for (std::size_t i = 0; i < core::kMaxAxes; ++i)
-      if (tmax[i] >= 1e-12) curve_jerk_acc(l, lim.axis[i].j_max_mm_s3, 1.0, kappa);
+      if (tmax[i] >= 1e-12) curve_jerk_acc(l, lim.axis[i].j_max_mm_s3, 1.0, kappa, 0.125);
   }
   return l;
 }
@@ -339,7 +343,7 @@ PlanResult Planner::emit_stage() {
 // centripetal acceleration alone reaches an axis's limit; a jerk block keeps the fixed split, which
 // the jerk follower's limits assume. a_mm_s2 and v_split_mm_s keep the split for either.
 void Planner::set_law(Block& b, const CurveLaw& c) const {
-  if (std::isinf(b.j_mm_s3) && config_.speed_dependent_tangential) {
+  if (std::isinf(b.j_mm_s3) && config_.speed_dependent_tangential && !c.law.full) {
     b.law = c.law;
     b.v_cap_mm_s = c.v_max_mm_s;
   } else {

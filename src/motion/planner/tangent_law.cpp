@@ -30,8 +30,13 @@ double TangentTerm::root(double x, double k) const {
   return w;
 }
 
-void TangentLaw::add(const TangentTerm& t) {
-  if (n < kMaxTerms) term[n++] = t;
+bool TangentLaw::add(const TangentTerm& t) {
+  if (n >= kMaxTerms) {
+    full = true;
+    return false;
+  }
+  term[n++] = t;
+  return true;
 }
 
 // rt-safe

@@ -36,7 +36,9 @@ struct TangentTerm {
 };
 
 struct TangentLaw {
-  static constexpr std::size_t kMaxTerms = core::kMaxAxes;
+  // Curves moving more axes than this (rare on the machines softmc runs) keep the fixed split: every
+  // Block carries a law, and a smaller one keeps the look-ahead window's copies cheap.
+  static constexpr std::size_t kMaxTerms = 4;
   std::array<TangentTerm, kMaxTerms> term{};
   std::uint8_t n = 0;
   double a_const = std::numeric_limits<double>::infinity();  // constant bounds (line axes, helix axes)
@@ -49,7 +51,9 @@ struct TangentLaw {
     l.a_const = a_mm_s2;
     return l;
   }
-  void add(const TangentTerm& t);
+  // False (and nothing added) when the law is full.
+  bool add(const TangentTerm& t);
+  bool full = false;  // a term did not fit: the law is incomplete and must not be used
 
   // rt-safe. Tangential acceleration allowed at speed² w (mm/s²).
   double at(double w) const;

@@ -176,3 +176,35 @@ TEST(TangentLaw, ArcWithAnEndOffTheCircleKeepsTheLimitsAtTheNextCorner) {
 }
 }  // namespace
 }  // namespace softmc::motion
+
+namespace softmc::motion {
+namespace {
+// A blend that moves five axes needs five terms, more than a law holds: it keeps the fixed split
+// (a correct, slower law) and the run keeps every limit.
+TEST(TangentLaw, CurvesOnMoreAxesThanTheLawHoldsKeepTheSplit) {
+  MachineLimits lim;
+  for (int i = 0; i < 5; ++i) lim.axis[i] = {100, 1000, 0};
+  Vec a{}, b{}, c{};
+  for (int i = 0; i < 5; ++i) {
+    b[i] = 10 + i;
+    c[i] = b[i] + (i % 2 ? 8 : 3);
+  }
+  const Vec t1 = (b - a) * (1 / core::norm(b - a)), t2 = (c - b) * (1 / core::norm(c - b));
+  const double delta = 2 * std::asin(core::norm(t2 - t1) / 2);
+  const BlendArc arc = make_blend_arc(b - t1 * 1.0, t1, t2, 1.0 / std::tan(delta / 2), delta);
+  EXPECT_TRUE(blend_law(arc, lim).law.full);
+  std::vector<PathRequest> reqs(2);
+  reqs[0].geom = make_line(a, b);
+  reqs[1].geom = make_line(b, c);
+  for (auto& r : reqs) {
+    r.feed_mm_s = 100;
+    r.tolerance_mm = 0.1;
+    r.profile = ProfileKind::Trapezoid;
+  }
+  const auto res = run_path(lim, reqs, 16);
+  ASSERT_TRUE(res.finished);
+  EXPECT_LE(res.fig.a_ratio, 1 + 1e-5) << res.fig.describe();
+  EXPECT_LE(res.fig.deviation_mm, 0.1 + 1e-9);
+}
+}  // namespace
+}  // namespace softmc::motion
