@@ -2,6 +2,7 @@
 #include "control/channel.hpp"
 
 #include "control/path.hpp"
+#include "motion/geometry/polyline_smoothing.hpp"
 
 namespace softmc::control {
 
@@ -22,14 +23,52 @@ void Channel::load(const program::Program& prog) {
   curve_next_ = 0;
   // Curves are built from where the program's previous motion ends: walk the programmed geometry.
   const auto n = prog.instructions.size();
-  curve_segments_.clear();
-  curve_first_.assign(n + 1, 0);
+  std::vector<std::vector<motion::Segment>> per(n);
   curve_error_.assign(n, nullptr);
+  smoothed_.assign(n, 0);
   core::Vec at = prog.start;
   std::vector<motion::Segment> tmp;
+  // Jerk mode: runs of short lines become curvature-continuous B-splines (polyline_smoothing.hpp).
+  const auto& pc = planner_.config();
+  const bool smooth = pc.smoothing_max_turn_rad > 0 && motion::jerk_mode(planner_.limits());
+  double tol = -1;  // as PathMode sets it in update()
+  std::vector<core::Vec> run_pts;
+  std::vector<std::size_t> run_ins;
+  double run_feed = 0, run_tol = 0;
+  std::vector<std::vector<motion::Segment>> run_out;
+  const auto close_run = [&] {
+    if (run_ins.size() >= 2) {
+      motion::PolylineSmoothing cfg;
+      cfg.tolerance_mm = pc.smoothing_share * run_tol;
+      cfg.max_turn_rad = pc.smoothing_max_turn_rad;
+      motion::smooth_polyline(run_pts, cfg, run_out);
+      for (std::size_t k = 0; k < run_ins.size(); ++k)
+        if (!run_out[k].empty()) {
+          per[run_ins[k]] = std::move(run_out[k]);
+          smoothed_[run_ins[k]] = 1;
+        }
+    }
+    run_pts.clear();
+    run_ins.clear();
+  };
   for (std::size_t i = 0; i < n; ++i) {
-    curve_first_[i] = static_cast<std::uint32_t>(curve_segments_.size());
     const auto& op = prog.instructions[i].op;
+    if (const auto* pm = std::get_if<program::PathMode>(&op))
+      tol = pm->kind == program::PathKind::Blend ? (pm->tolerance_mm > 0 ? pm->tolerance_mm : -1.0) : 0.0;
+    const auto* l = std::get_if<program::Linear>(&op);
+    const double t = tol < 0 ? pc.tolerance_mm : tol;
+    if (smooth && l && t > 0) {
+      if (run_ins.empty() || l->feed_mm_s != run_feed || t != run_tol) {
+        close_run();
+        run_pts.push_back(at);
+        run_feed = l->feed_mm_s;
+        run_tol = t;
+      }
+      run_pts.push_back(l->end);
+      run_ins.push_back(i);
+    } else if (!std::holds_alternative<program::PathMode>(op)) {
+      close_run();
+    }
     if (auto seg = to_segment(op, at)) {
       at = seg->end;
     } else if (is_curve(op)) {
@@ -38,9 +77,16 @@ void Channel::load(const program::Program& prog) {
         curve_error_[i] = motion::to_string(e);
         continue;
       }
-      curve_segments_.insert(curve_segments_.end(), tmp.begin(), tmp.end());
+      per[i] = tmp;
       if (!tmp.empty()) at = tmp.back().end;
     }
+  }
+  close_run();
+  curve_segments_.clear();
+  curve_first_.assign(n + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    curve_first_[i] = static_cast<std::uint32_t>(curve_segments_.size());
+    curve_segments_.insert(curve_segments_.end(), per[i].begin(), per[i].end());
   }
   curve_first_[n] = static_cast<std::uint32_t>(curve_segments_.size());
 }
@@ -51,6 +97,7 @@ bool Channel::push_curve(int& budget) {
   double feed = 0;
   if (const auto* b = std::get_if<program::Bezier>(&op)) feed = b->feed_mm_s;
   if (const auto* nb = std::get_if<program::Nurbs>(&op)) feed = nb->feed_mm_s;
+  if (const auto* l = std::get_if<program::Linear>(&op)) feed = l->feed_mm_s;  // a smoothed line
   const std::uint32_t first = curve_first_[pc_], last = curve_first_[pc_ + 1];
   while (first + curve_next_ < last) {
     if (planner_.queue().full() || budget <= 0) return false;
@@ -117,7 +164,7 @@ void Channel::update(double dt_s) {
       ++pc_;
       continue;
     }
-    if (is_curve(op)) {
+    if (is_curve(op) || smoothed_[pc_]) {
       if (curve_error_[pc_]) return fail(curve_error_[pc_], motion::PlanResult::Infeasible);
       if (!push_curve(budget)) return;  // wait for room (or a planning fault)
       ++pc_;

@@ -23,7 +23,8 @@ class Channel {
 
   // Not rt: binds a checked program and resets the pointer. The program must outlive the run.
   // Curves (G5/G5.1/G5.2) are expanded into segments here, because their construction allocates;
-  // a curve that cannot be built faults the channel when the program reaches it.
+  // a curve that cannot be built faults the channel when the program reaches it. With jerk limits,
+  // runs of short lines are smoothed here too (PlannerConfig::smoothing_max_turn_rad).
   void load(const program::Program& prog);
   // rt-safe: start from the first instruction (Idle or Finished), planning from `from`.
   bool start(const core::Vec& from);
@@ -65,6 +66,7 @@ class Channel {
   std::vector<std::uint32_t> curve_first_;
   std::vector<const char*> curve_error_;  // per instruction: why its curve could not be built, or null
   std::uint32_t curve_next_ = 0;           // next segment of the current curve to push
+  std::vector<std::uint8_t> smoothed_;     // per instruction: a line replaced by smoothing segments
 };
 
 }  // namespace softmc::control

@@ -70,3 +70,23 @@ TEST(PlannerConfig, LookaheadKeySizesTheWindow) {
   EXPECT_LE(long_window.deviation_mm, 0.05 + 1e-9);
   EXPECT_LE(short_window.deviation_mm, 0.05 + 1e-9);
 }
+
+// planner.smoothing_turn_deg reaches the channel: on a jerk-limited machine the surfacing program's
+// lines run as a C² spline (a different path, within the same P of the program), and every axis
+// keeps its limits; 0 leaves the blended lines.
+TEST(PlannerConfig, SmoothingKeyTurnsCamRunsIntoASpline) {
+  const auto prog = load("examples/gcode/bench/surfacing.ngc");
+  std::vector<std::string> sets{"axes.z.min_mm=-10", "planner.tolerance_mm=0.05"};
+  for (const char* a : {"x", "y", "z"}) {
+    sets.push_back(std::string("axes.") + a + ".max_vel_mm_s=100");
+    sets.push_back(std::string("axes.") + a + ".max_acc_mm_s2=1000");
+    sets.push_back(std::string("axes.") + a + ".max_jerk_mm_s3=10000");
+  }
+  auto on = sets;
+  on.push_back("planner.smoothing_turn_deg=20");
+  const auto blended = run(prog, sets);
+  const auto smoothed = run(prog, on);
+  EXPECT_LE(blended.deviation_mm, 0.05 + 1e-9);
+  EXPECT_LE(smoothed.deviation_mm, 0.05 + 1e-9);
+  EXPECT_NE(smoothed.time_s, blended.time_s);  // the key is used
+}

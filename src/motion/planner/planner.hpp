@@ -41,6 +41,11 @@ struct PlannerConfig {
   // programmed corner in between lies within Q = merge_share·P of it; 0 = off. With Q ≤ P the path
   // stays within P of the program (docs/planner.md).
   double merge_share = 0.5;
+  // Jerk mode: runs of lines turning less than this at each point are executed as a curvature-
+  // continuous B-spline within smoothing_share·P of them (polyline_smoothing.hpp; the Channel builds
+  // it at load); 0 = off, the default until the jerk follower exploits it (docs/planner.md).
+  double smoothing_max_turn_rad = 0;
+  double smoothing_share = 0.9;
 };
 
 enum class PlanResult : std::uint8_t { Ok, QueueFull, BadFeed, OutsideTravel, Infeasible };

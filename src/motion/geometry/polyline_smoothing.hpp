@@ -1,0 +1,38 @@
+// Curvature-continuous smoothing of CAM polylines, for jerk-limited paths (docs/planner.md).
+//
+//   P0 ──── P1 ──── P2 ──── P3 ──── P4        programmed: short lines, small turns
+//   P0 ─S╮                       ╭E─ P4        smoothed: a uniform cubic B-spline with control points
+//        ╰──── · ──── · ──── · ─╯              P0 P0 P1 … P4 P4, one cubic piece per line, and two
+//                                              line stubs P0→S, E→P4 along the first and last lines
+//
+// Corners of arcs and lines step the curvature, and a curvature step at speed v steps every axis's
+// acceleration by v²·Δκ in one cycle: under a jerk limit such a corner can only be crossed slowly
+// (v²·Δκ ≤ j·dt). The B-spline is C² (curvature continuous) everywhere, starts and ends with zero
+// curvature tangent to its first and last legs (so the stubs join it without a step), and lies
+// within the convex hull of each four consecutive control points. The control points are the
+// programmed points low-pass filtered (CAM rounding would otherwise become curvature noise, and
+// the jerk of v³·dκ/ds); each piece is checked against the
+// tolerance P (sampled distance to the programmed lines around it), and a run is split where a piece
+// would leave it. Exact stops and sharp corners end a run and are planned as usual.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "motion/geometry/segment.hpp"
+
+namespace softmc::motion {
+
+struct PolylineSmoothing {
+  double tolerance_mm = 0.05;   // the smoothed curve stays within this of the programmed lines
+  double max_turn_rad = 0.35;   // a larger turn between two lines ends a run (a corner to blend)
+  double min_length_mm = 1e-6;  // shorter lines end a run
+  int filter_passes = 8;        // low-pass passes over the points before the spline (fewer if P is left)
+};
+
+// For the polyline pts[0..n] (n lines): `lines[i]` receives the segments that replace line i
+// (pts[i] → pts[i + 1]), or stays empty where line i is kept as programmed. Configuration time
+// (allocates). Consecutive segments join exactly (the end of one is the start of the next).
+void smooth_polyline(std::span<const Vec> pts, const PolylineSmoothing& cfg, std::vector<std::vector<Segment>>& lines);
+
+}  // namespace softmc::motion

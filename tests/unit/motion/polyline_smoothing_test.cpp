@@ -1,0 +1,144 @@
+// Curvature-continuous smoothing of CAM polylines (polyline_smoothing.hpp): continuity, tolerance,
+// corners, and a jerk-limited run through the planner keeping every limit.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "motion/geometry/polyline_smoothing.hpp"
+#include "planner_run.hpp"
+
+namespace softmc::motion {
+namespace {
+
+using testing::run_path;
+
+double distance_to_polyline(const Vec& p, const std::vector<Vec>& pts) {
+  double best = 1e300;
+  for (std::size_t k = 0; k + 1 < pts.size(); ++k) best = std::min(best, make_line(pts[k], pts[k + 1]).distance_to(p));
+  return best;
+}
+
+// A wavy surface in XZ sampled every 0.25 mm and rounded to 1 µm, as CAM prints it.
+std::vector<Vec> wavy(int n) {
+  std::vector<Vec> pts;
+  for (int k = 0; k <= n; ++k) {
+    const double x = 0.25 * k;
+    Vec p;
+    p[0] = x;
+    p[2] = std::round(1000 * 2 * std::sin(x / 5)) / 1000;
+    pts.push_back(p);
+  }
+  return pts;
+}
+
+std::vector<Segment> flatten(const std::vector<std::vector<Segment>>& lines) {
+  std::vector<Segment> out;
+  for (const auto& l : lines) out.insert(out.end(), l.begin(), l.end());
+  return out;
+}
+
+TEST(PolylineSmoothing, SplineIsCurvatureContinuousAndWithinTheTolerance) {
+  const auto pts = wavy(200);
+  PolylineSmoothing cfg;
+  cfg.tolerance_mm = 0.045;
+  std::vector<std::vector<Segment>> lines;
+  smooth_polyline(pts, cfg, lines);
+  ASSERT_EQ(lines.size(), 200u);
+  for (const auto& l : lines) ASSERT_FALSE(l.empty());
+  const auto segs = flatten(lines);
+  EXPECT_EQ(segs.front().start, pts.front());  // the stubs start and end on the programmed points
+  EXPECT_EQ(segs.back().end, pts.back());
+  for (std::size_t k = 0; k + 1 < segs.size(); ++k) {
+    const Segment& a = segs[k];
+    const Segment& b = segs[k + 1];
+    EXPECT_EQ(a.end, b.start) << k;
+    EXPECT_LT(core::norm(a.tangent(a.length) - b.tangent(0)), 1e-9) << k;
+    EXPECT_LT(core::norm(a.curvature(a.length) - b.curvature(0)), 1e-6) << k;  // C²: no curvature step
+  }
+  double dev = 0;
+  for (const auto& s : segs)
+    for (int k = 0; k <= 64; ++k) dev = std::max(dev, distance_to_polyline(s.point(s.length * k / 64), pts));
+  EXPECT_LE(dev, cfg.tolerance_mm);
+  // The filter takes the printed rounding out of the curvature: away from the run's ends (where the
+  // curvature rises from 0 within one piece) it changes much less along the spline than along one
+  // through the raw points.
+  const auto interior_dk = [](const std::vector<Segment>& sg) {
+    double dk = 0;
+    for (std::size_t k = 4; k + 4 < sg.size(); ++k) dk = std::max(dk, sg[k].poly.max_dcurvature);
+    return dk;
+  };
+  PolylineSmoothing raw = cfg;
+  raw.filter_passes = 0;
+  std::vector<std::vector<Segment>> raw_lines;
+  smooth_polyline(pts, raw, raw_lines);
+  EXPECT_LT(interior_dk(segs), 0.5 * interior_dk(flatten(raw_lines)));
+}
+
+// A sharp corner ends a run: the line into it ends exactly on the corner and the next run starts
+// there, so the planner blends or stops there as usual.
+TEST(PolylineSmoothing, SharpCornersEndARun) {
+  std::vector<Vec> pts;
+  for (int k = 0; k <= 20; ++k) pts.push_back(Vec{0.25 * k, 0.001 * k * k});
+  const Vec corner = pts.back();
+  for (int k = 1; k <= 20; ++k) pts.push_back(Vec{corner[0], corner[1] + 0.25 * k});
+  PolylineSmoothing cfg;
+  std::vector<std::vector<Segment>> lines;
+  smooth_polyline(pts, cfg, lines);
+  ASSERT_FALSE(lines[19].empty());
+  ASSERT_FALSE(lines[20].empty());
+  EXPECT_EQ(lines[19].back().end, corner);
+  EXPECT_EQ(lines[20].front().start, corner);
+  // The straight leg stays straight (its points are collinear: filtering moves nothing off it).
+  for (const auto& s : lines[25]) EXPECT_LT(std::abs(s.point(s.length / 2)[0] - corner[0]), 1e-12);
+}
+
+// Where filtering would leave the tolerance the run is built with less of it, then split: every
+// point stays within P however tight P is.
+TEST(PolylineSmoothing, TightToleranceIsKeptEverywhere) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<Vec> pts;
+  for (int k = 0; k <= 300; ++k) pts.push_back(Vec{0.3 * k, 3 * std::sin(0.05 * k) + 0.02 * u(rng)});
+  for (const double tol : {0.001, 0.01, 0.05}) {
+    PolylineSmoothing cfg;
+    cfg.tolerance_mm = tol;
+    std::vector<std::vector<Segment>> lines;
+    smooth_polyline(pts, cfg, lines);
+    double dev = 0;
+    for (const auto& s : flatten(lines))
+      for (int k = 0; k <= 64; ++k) dev = std::max(dev, distance_to_polyline(s.point(s.length * k / 64), pts));
+    EXPECT_LE(dev, tol) << tol;
+  }
+}
+
+// Through the planner and the jerk follower: the smoothed surface keeps speed, acceleration and
+// jerk within their limits (the Poly limits include v³·dκ/ds).
+TEST(PolylineSmoothing, JerkLimitedRunKeepsEveryLimit) {
+  MachineLimits lim;
+  for (int i = 0; i < 3; ++i) lim.axis[i] = {100, 1000, 10000};
+  const auto pts = wavy(120);
+  PolylineSmoothing cfg;
+  cfg.tolerance_mm = 0.045;
+  std::vector<std::vector<Segment>> lines;
+  smooth_polyline(pts, cfg, lines);
+  std::vector<PathRequest> reqs;
+  for (const auto& s : flatten(lines)) {
+    PathRequest r;
+    r.geom = s;
+    r.feed_mm_s = 100;
+    r.tolerance_mm = 0.05;
+    r.tag = static_cast<std::uint32_t>(reqs.size());
+    reqs.push_back(r);
+  }
+  const auto res = run_path(lim, reqs, 4096);
+  ASSERT_EQ(res.error, PlanResult::Ok);
+  ASSERT_TRUE(res.finished);
+  EXPECT_LE(res.fig.v_ratio, 1 + 1e-5) << res.fig.describe();
+  EXPECT_LE(res.fig.a_ratio, 1 + 1e-5) << res.fig.describe();
+  EXPECT_LE(res.fig.j_ratio, 1 + 1e-5) << res.fig.describe();
+  EXPECT_EQ(res.end, pts.back());
+}
+
+}  // namespace
+}  // namespace softmc::motion
