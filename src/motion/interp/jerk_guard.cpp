@@ -169,8 +169,12 @@ bool JerkGuard::check(Cursor& c, double p0, double v0, const PathStep& st, Guard
 //    meet a block allowing less jerk than it was planned with: the brake's reach only shrinks as it
 //    goes on, so the jerk it plans with only rises);
 //  - the acceleration of the blocks this cycle can reach, and |a| lowered ahead of blocks allowing
-//    less: reaching block m at distance d takes at least d/v_up, in which a can rise by
-//    J·(d/v_up − dt) (one cycle lost to sampling).
+//    less: reaching block m at distance d takes at least d/v_up, in which |a| can fall by
+//    J·(d/v_up − 2·dt). Two cycles are lost: check() holds the largest |a| of the whole cycle that
+//    crosses into m against m's limit, so |a| must be down before that cycle starts, and a cycle
+//    lowers |a| towards what was planned at its start. (With one, a run of blocks whose limits fall
+//    a little from one block to the next — CAM curves — had every accelerating step refused by a
+//    brake that entered the next block 0.1–4 % over its limit, and crawled at 1–5 mm/s.)
 // A brake never enters a block behind an exact stop: those limits do not apply.
 PathStep JerkGuard::brake(const ProfileState& x, double p, const Cursor& c) const {
   double j_eff = jerk(c.k), a_eff = acc(c.k);
@@ -185,7 +189,7 @@ PathStep JerkGuard::brake(const ProfileState& x, double p, const Cursor& c) cons
         a_eff = std::min(a_eff, acc(k));
         j_eff = std::min(j_eff, jerk(k));
       } else {
-        a_eff = std::min(a_eff, acc(k) + j_eff * ((start - p) / v_up - dt_));
+        a_eff = std::min(a_eff, acc(k) + j_eff * std::max(0.0, (start - p) / v_up - 2 * dt_));
       }
       start += ring_.at(k).length;
     }
