@@ -43,8 +43,8 @@ struct PlannerConfig {
   double merge_share = 0.5;
   // Jerk mode: runs of lines turning less than this at each point are executed as a curvature-
   // continuous B-spline within smoothing_share·P of them (polyline_smoothing.hpp; the Channel builds
-  // it at load); 0 = off, the default until the jerk follower exploits it (docs/planner.md).
-  double smoothing_max_turn_rad = 0;
+  // it at load); 0 = off.
+  double smoothing_max_turn_rad = 20 * 3.14159265358979323846 / 180;
   double smoothing_share = 0.9;
 };
 
