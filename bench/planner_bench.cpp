@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vector>
 
+#include "motion/geometry/polyline_smoothing.hpp"
 #include "motion/interp/interpolator.hpp"
 #include "motion/planner/planner.hpp"
 
@@ -107,3 +108,36 @@ static void BM_JerkCycle4Axes(benchmark::State& state) {
   state.counters["mean_path_v_mm_s"] = v_sum / static_cast<double>(state.iterations());
 }
 BENCHMARK(BM_JerkCycle4Axes)->Arg(0)->Arg(1);
+
+// The same cycle on the same polyline smoothed as the Channel does by default on a jerk-limited
+// machine (polyline_smoothing.hpp: one C² B-spline lap of Poly pieces), closed-form guard.
+static void BM_JerkCycleSmoothed4Axes(benchmark::State& state) {
+  const auto lines = polyline(0.5);
+  std::vector<core::Vec> pts{lines.front().geom.start};
+  for (const auto& r : lines) pts.push_back(r.geom.end);
+  std::vector<std::vector<motion::Segment>> out;
+  motion::smooth_polyline(pts, motion::PolylineSmoothing{}, out);
+  std::vector<motion::PathRequest> reqs;
+  for (const auto& l : out)
+    for (const auto& seg : l) reqs.push_back({seg, 100, false, static_cast<std::uint32_t>(reqs.size())});
+  auto lim = xyz();
+  for (int i : {0, 1, 2, 6}) lim.axis[static_cast<std::size_t>(i)].j_max_mm_s3 = 10'000;
+  motion::Planner planner(lim, 4096);
+  motion::Interpolator in(planner.queue(), reqs.front().geom.start);
+  std::size_t k = 0;
+  const auto refill = [&] {
+    while (!planner.queue().full()) planner.push(reqs[k++ % reqs.size()]);
+  };
+  refill();
+  double v_sum = 0;
+  for (auto _ : state) {
+    v_sum += in.step(0.001).path_v;
+    if (planner.queue().size() < 1024) {
+      state.PauseTiming();
+      refill();
+      state.ResumeTiming();
+    }
+  }
+  state.counters["mean_path_v_mm_s"] = v_sum / static_cast<double>(state.iterations());
+}
+BENCHMARK(BM_JerkCycleSmoothed4Axes);

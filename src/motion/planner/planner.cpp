@@ -95,10 +95,13 @@ SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double 
       v = std::min(v, ax.v_max_mm_s / d);
       a = std::min(a, (1 - cn) * ax.a_max_mm_s2 / d);
       if (kappa > 0) v = std::min(v, std::sqrt(cn * ax.a_max_mm_s2 / kappa));
-      curve_jerk(l, ax.j_max_mm_s3, d, 1.0, kappa);
-      // A general curve's curvature changes along it: v³·dκ/ds loads the axes too.
-      if (ax.j_max_mm_s3 > 0 && g.poly.max_dcurvature > 0)
-        v = std::min(v, std::cbrt(0.125 * ax.j_max_mm_s3 / g.poly.max_dcurvature));
+      // Jerk: j_t·T_i gets half of j_max; v³κ²·T_i + v³·dκ/ds·N_i ≤ v³(κ² + κ') shares three eighths
+      // (one budget: the two speed terms of one curve, whichever dominates), 3·v·a_t·κ the last eighth.
+      if (ax.j_max_mm_s3 > 0) {
+        l.j_max_mm_s3 = std::min(l.j_max_mm_s3, 0.5 * ax.j_max_mm_s3 / d);
+        const double k3 = kappa * kappa + g.poly.max_dcurvature;
+        if (k3 > 0) v = std::min(v, std::cbrt(0.375 * ax.j_max_mm_s3 / k3));
+      }
     }
     for (std::size_t i = 0; i < core::kMaxAxes; ++i)
       if (tmax[i] >= 1e-12) curve_jerk_acc(l, lim.axis[i].j_max_mm_s3, 1.0, kappa, 0.125);
