@@ -73,3 +73,15 @@ BENCHMARK(BM_Point<thesis_polynomial>)->Name("GeometryPoint/NewtonThesis");
 BENCHMARK(BM_Frame<helix>)->Name("GeometryFrame/Helix");
 BENCHMARK(BM_Frame<cubic>)->Name("GeometryFrame/CubicBezier");
 BENCHMARK(BM_Frame<thesis_polynomial>)->Name("GeometryFrame/NewtonThesis");
+
+// Building one cubic Bézier segment (arc-length table, bounds, sampled maxima): what the smoothing of
+// CAM line runs pays per line at load.
+static void BM_BuildCubicBezier(benchmark::State& state) {
+  double x = 0;
+  for (auto _ : state) {
+    const auto s = motion::make_cubic_bezier({x, 0, 0}, {x + 0.1, 0.01, 0.002}, {x + 0.2, 0.015, 0.003}, {x + 0.3, 0.02, 0.004});
+    benchmark::DoNotOptimize(s.length);
+    x += 1e-3;
+  }
+}
+BENCHMARK(BM_BuildCubicBezier);

@@ -50,18 +50,22 @@ bool build_run(std::span<const Vec> pts, std::size_t a, std::size_t b, int passe
   // Knot points, computed once so that neighbouring pieces share them bit for bit.
   std::vector<Vec> knot(b - a + 1);
   for (std::size_t j = 0; j + 2 < q.size(); ++j) knot[j] = (q[j] + q[j + 1] * 4 + q[j + 2]) * (1.0 / 6);
-  std::vector<Segment> pieces;
-  pieces.reserve(b - a);
-  for (std::size_t i = a; i < b; ++i) {
-    const std::size_t j = i - a;
+  // Check every piece first (evaluated directly: cheap, so a run split many times costs little),
+  // and build the segments, whose arc-length tables are the expensive part, only for a run that passes.
+  const auto ctrl = [&](std::size_t j) {
     const Vec& q1 = q[j + 1];
     const Vec& q2 = q[j + 2];
-    const Segment s = make_cubic_bezier(knot[j], (q1 * 2 + q2) * (1.0 / 3), (q1 + q2 * 2) * (1.0 / 3), knot[j + 1]);
-    // The piece lies in the hull of pts[i-1 .. i+2]; its nearest programmed lines are i-1, i, i+1.
+    return std::array<Vec, 4>{knot[j], (q1 * 2 + q2) * (1.0 / 3), (q1 + q2 * 2) * (1.0 / 3), knot[j + 1]};
+  };
+  for (std::size_t i = a; i < b; ++i) {
+    const auto c4 = ctrl(i - a);
+    // The piece lies in the hull of its control points, near pts[i-1 .. i+2]: its nearest
+    // programmed lines are i-1, i, i+1.
     const std::size_t lo = i > a ? i - 1 : i, hi = std::min(b - 1, i + 1);
     constexpr int kSamples = 32;
     for (int k = 0; k <= kSamples; ++k) {
-      const Vec p = s.point(s.length * k / kSamples);
+      const double t = static_cast<double>(k) / kSamples, u = 1 - t;
+      const Vec p = c4[0] * (u * u * u) + c4[1] * (3 * u * u * t) + c4[2] * (3 * u * t * t) + c4[3] * (t * t * t);
       double d = 1e300;
       for (std::size_t m = lo; m <= hi; ++m) d = std::min(d, distance_to_chord(p, pts[m], pts[m + 1]));
       if (!(d <= cfg.tolerance_mm)) {
@@ -69,7 +73,6 @@ bool build_run(std::span<const Vec> pts, std::size_t a, std::size_t b, int passe
         return false;
       }
     }
-    pieces.push_back(s);
   }
   // The stubs run from P_a towards the first filtered point, and into P_b: near the first and last
   // lines, checked like the pieces.
@@ -85,7 +88,10 @@ bool build_run(std::span<const Vec> pts, std::size_t a, std::size_t b, int passe
     }
   }
   lines[a].push_back(first);
-  for (std::size_t i = a; i < b; ++i) lines[i].push_back(pieces[i - a]);
+  for (std::size_t i = a; i < b; ++i) {
+    const auto c4 = ctrl(i - a);
+    lines[i].push_back(make_cubic_bezier(c4[0], c4[1], c4[2], c4[3]));
+  }
   lines[b - 1].push_back(last);
   return true;
 }
@@ -113,7 +119,8 @@ void smooth_polyline(std::span<const Vec> pts, const PolylineSmoothing& cfg, std
   for (std::size_t i = 0; i < n; ++i) {
     const bool short_line = !(core::distance(pts[i], pts[i + 1]) > cfg.min_length_mm);
     // Line i ends the run at its end point when the turn there is sharp (or it is the last line).
-    const bool corner = i + 1 == n || turn(pts[i], pts[i + 1], pts[i + 2]) > cfg.max_turn_rad;
+    const bool corner = i + 1 == n || i + 1 - a >= cfg.max_run_lines ||
+                        turn(pts[i], pts[i + 1], pts[i + 2]) > cfg.max_turn_rad;
     if (short_line) {
       smooth_range(pts, a, i, cfg, lines);
       a = i + 1;

@@ -28,6 +28,7 @@ struct PolylineSmoothing {
   double max_turn_rad = 0.35;   // a larger turn between two lines ends a run (a corner to blend)
   double min_length_mm = 1e-6;  // shorter lines end a run
   int filter_passes = 8;        // low-pass passes over the points before the spline (fewer if P is left)
+  std::size_t max_run_lines = 1000;  // a longer run is cut there (bounds the work and the splitting depth)
 };
 
 // For the polyline pts[0..n] (n lines): `lines[i]` receives the segments that replace line i

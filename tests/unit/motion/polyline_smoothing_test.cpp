@@ -142,3 +142,23 @@ TEST(PolylineSmoothing, JerkLimitedRunKeepsEveryLimit) {
 
 }  // namespace
 }  // namespace softmc::motion
+
+namespace softmc::motion {
+namespace {
+// A very long run is cut into runs of at most max_run_lines, each ending exactly on a programmed
+// point: bounded work and splitting depth whatever the program.
+TEST(PolylineSmoothing, LongRunsAreCutIntoBoundedRuns) {
+  std::vector<Vec> pts;
+  for (int k = 0; k <= 5000; ++k) pts.push_back(Vec{0.25 * k, 5 * std::sin(0.01 * k)});
+  PolylineSmoothing cfg;
+  cfg.max_run_lines = 1000;
+  std::vector<std::vector<Segment>> lines;
+  smooth_polyline(pts, cfg, lines);
+  for (std::size_t i : {999u, 1999u, 4999u}) {
+    ASSERT_FALSE(lines[i].empty());
+    EXPECT_EQ(lines[i].back().end, pts[i + 1]) << i;
+  }
+  EXPECT_EQ(lines[1000].front().start, pts[1000]);
+}
+}  // namespace
+}  // namespace softmc::motion
