@@ -78,18 +78,13 @@ static void BM_LookaheadCycle4Axes(benchmark::State& state) {
 }
 BENCHMARK(BM_LookaheadCycle4Axes);
 
-// One jerk-mode interpolation cycle (S-curve path speed with the JerkGuard's verified brake) over a
-// blended CAM-like polyline (0.5 mm chords, 4 axes), jerk 10 000 mm/s³ per axis, refilled outside
-// the timing. The cycles include the ramps at the start, so acceleration, cruise and the brake
-// checks at the window's end all take their share. Arg: 0 = the guard simulates every brake to
-// rest, 1 = it stops where the rest is a closed-form ramp that keeps every limit (the default).
-static void BM_JerkCycle4Axes(benchmark::State& state) {
-  const auto reqs = polyline(0.5);
+// Steps the interpolator in jerk mode over `reqs`, pushed round and round (refilled outside the timing).
+static void jerk_cycles(benchmark::State& state, const std::vector<motion::PathRequest>& reqs, bool closed_form) {
   auto lim = xyz();
   for (int i : {0, 1, 2, 6}) lim.axis[static_cast<std::size_t>(i)].j_max_mm_s3 = 10'000;
   motion::Planner planner(lim, 4096);
   motion::InterpolatorConfig ic;
-  ic.guard_closed_form = state.range(0) != 0;
+  ic.guard_closed_form = closed_form;
   motion::Interpolator in(planner.queue(), reqs.front().geom.start, ic);
   std::size_t k = 0;
   const auto refill = [&] {
@@ -107,6 +102,13 @@ static void BM_JerkCycle4Axes(benchmark::State& state) {
   }
   state.counters["mean_path_v_mm_s"] = v_sum / static_cast<double>(state.iterations());
 }
+
+// One jerk-mode interpolation cycle (S-curve path speed with the JerkGuard's verified brake) over a
+// blended CAM-like polyline (0.5 mm chords, 4 axes), jerk 10 000 mm/s³ per axis. The cycles include
+// the ramps at the start, so acceleration, cruise and the brake checks at the window's end all take
+// their share. Arg: 0 = the guard simulates every brake to rest, 1 = it stops where the rest is a
+// closed-form ramp that keeps every limit (the default).
+static void BM_JerkCycle4Axes(benchmark::State& state) { jerk_cycles(state, polyline(0.5), state.range(0) != 0); }
 BENCHMARK(BM_JerkCycle4Axes)->Arg(0)->Arg(1);
 
 // The same cycle on the same polyline smoothed as the Channel does by default on a jerk-limited
@@ -120,24 +122,6 @@ static void BM_JerkCycleSmoothed4Axes(benchmark::State& state) {
   std::vector<motion::PathRequest> reqs;
   for (const auto& l : out)
     for (const auto& seg : l) reqs.push_back({seg, 100, false, static_cast<std::uint32_t>(reqs.size())});
-  auto lim = xyz();
-  for (int i : {0, 1, 2, 6}) lim.axis[static_cast<std::size_t>(i)].j_max_mm_s3 = 10'000;
-  motion::Planner planner(lim, 4096);
-  motion::Interpolator in(planner.queue(), reqs.front().geom.start);
-  std::size_t k = 0;
-  const auto refill = [&] {
-    while (!planner.queue().full()) planner.push(reqs[k++ % reqs.size()]);
-  };
-  refill();
-  double v_sum = 0;
-  for (auto _ : state) {
-    v_sum += in.step(0.001).path_v;
-    if (planner.queue().size() < 1024) {
-      state.PauseTiming();
-      refill();
-      state.ResumeTiming();
-    }
-  }
-  state.counters["mean_path_v_mm_s"] = v_sum / static_cast<double>(state.iterations());
+  jerk_cycles(state, reqs, true);
 }
 BENCHMARK(BM_JerkCycleSmoothed4Axes);
