@@ -30,6 +30,24 @@ constexpr double kH = 1.0 / kArcTableIntervals;
 //   level n-1: R0 R1      →  H'  = n(R1 - R0),  H = (1-u)R0 + uR1
 // then the quotient rule for C = H / W.
 CurveDerivs bezier_derivs(const PolyCurve::BezierData& b, std::size_t n, double u) {
+  if (n == 3 && b.w[0] == 1 && b.w[1] == 1 && b.w[2] == 1 && b.w[3] == 1) {
+    // A polynomial cubic (splines, G5, smoothed CAM runs): the Bernstein forms of C, C', C'' directly,
+    // without copying the control arrays — the most frequent curve, evaluated thousands of times at
+    // construction and once per cycle.
+    const Vec& p0 = b.hctrl[0];
+    const Vec& p1 = b.hctrl[1];
+    const Vec& p2 = b.hctrl[2];
+    const Vec& p3 = b.hctrl[3];
+    const double v = 1 - u;
+    CurveDerivs d;
+    for (std::size_t a = 0; a < core::kMaxAxes; ++a) {
+      const double d0 = p1[a] - p0[a], d1 = p2[a] - p1[a], d2 = p3[a] - p2[a];
+      d.c[a] = v * v * v * p0[a] + 3 * v * u * (v * p1[a] + u * p2[a]) + u * u * u * p3[a];
+      d.d1[a] = 3 * (v * v * d0 + 2 * v * u * d1 + u * u * d2);
+      d.d2[a] = 6 * (v * (d1 - d0) + u * (d2 - d1));
+    }
+    return d;
+  }
   std::array<Vec, kMaxBezierDegree + 1> p = b.hctrl;
   std::array<double, kMaxBezierDegree + 1> w = b.w;
   const double v = 1 - u;
@@ -298,7 +316,8 @@ double PolyCurve::finalize() {
   max_abs_tangent = Vec{};
   max_curvature = 0;
   max_dcurvature = 0;
-  constexpr int kSamples = 1024;
+  // Cubics (splines, G5, smoothed CAM runs, by far the most built) vary slowly enough for 256.
+  const int kSamples = basis == PolyBasis::Bezier && degree <= 3 ? 256 : 1024;
   Vec k_prev;
   double sp_prev = 0;
   for (int i = 0; i <= kSamples; ++i) {
