@@ -2,9 +2,15 @@
 #include "control/channel.hpp"
 
 #include "control/path.hpp"
+
+#include <cmath>
 #include "motion/geometry/polyline_smoothing.hpp"
 
 namespace softmc::control {
+
+namespace {
+constexpr double kArcPieceRad = 3.14159265358979323846 / 4;  // longest arc piece without jerk limits
+}  // namespace
 
 const char* to_string(ChannelState s) {
   switch (s) {
@@ -30,7 +36,8 @@ void Channel::load(const program::Program& prog) {
   std::vector<motion::Segment> tmp;
   // Jerk mode: runs of short lines become curvature-continuous B-splines (polyline_smoothing.hpp).
   const auto& pc = planner_.config();
-  const bool smooth = pc.smoothing_max_turn_rad > 0 && motion::jerk_mode(planner_.limits());
+  const bool jerk = motion::jerk_mode(planner_.limits());
+  const bool smooth = pc.smoothing_max_turn_rad > 0 && jerk;
   double tol = -1;  // as PathMode sets it in update()
   std::vector<core::Vec> run_pts;
   std::vector<std::size_t> run_ins;
@@ -70,6 +77,19 @@ void Channel::load(const program::Program& prog) {
       close_run();
     }
     if (auto seg = to_segment(op, at)) {
+      // Without jerk limits, arcs are cut into pieces of at most 45°: each piece's own sweep bounds
+      // its axes' shares of tangent and normal, and each ramp may use the tangential acceleration
+      // its own top speed leaves (tangent_law.hpp), so a circle is not planned at its worst angle.
+      if (!jerk && seg->kind == motion::SegmentKind::Arc && std::abs(seg->sweep) > kArcPieceRad) {
+        const int pieces = static_cast<int>(std::ceil(std::abs(seg->sweep) / kArcPieceRad));
+        core::Vec from = seg->start;
+        for (int k = 1; k <= pieces; ++k) {
+          const core::Vec to = k == pieces ? seg->end : seg->point(seg->length * k / pieces);
+          per[i].push_back(motion::make_arc(from, to, seg->axis0, seg->axis1, seg->c0, seg->c1, seg->sweep > 0 ? 1 : -1));
+          from = to;
+        }
+        smoothed_[i] = 1;
+      }
       at = seg->end;
     } else if (is_curve(op)) {
       tmp.clear();
@@ -98,6 +118,7 @@ bool Channel::push_curve(int& budget) {
   if (const auto* b = std::get_if<program::Bezier>(&op)) feed = b->feed_mm_s;
   if (const auto* nb = std::get_if<program::Nurbs>(&op)) feed = nb->feed_mm_s;
   if (const auto* l = std::get_if<program::Linear>(&op)) feed = l->feed_mm_s;  // a smoothed line
+  if (const auto* a = std::get_if<program::Arc>(&op)) feed = a->feed_mm_s;     // an arc in pieces
   const std::uint32_t first = curve_first_[pc_], last = curve_first_[pc_ + 1];
   while (first + curve_next_ < last) {
     if (planner_.queue().full() || budget <= 0) return false;

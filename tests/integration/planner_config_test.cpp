@@ -90,3 +90,26 @@ TEST(PlannerConfig, SmoothingKeyTurnsCamRunsIntoASpline) {
   EXPECT_LE(smoothed.deviation_mm, 0.05 + 1e-9);
   EXPECT_LT(smoothed.time_s, 0.5 * blended.time_s) << smoothed.time_s << " vs " << blended.time_s;
 }
+
+// Without jerk limits the Channel cuts arcs into pieces of at most 45° (each planned with its own
+// sweep's axis shares): plasma.ngc's holes and outline run within every axis's speed and
+// acceleration limit, on the programmed path, and to the programmed end.
+TEST(PlannerConfig, ArcsInPiecesKeepTheLimits) {
+  const auto prog = load("examples/gcode/bench/plasma.ngc");
+  auto cfg = machine::default_machine();
+  for (const char* a : {"x", "y", "z"}) {
+    machine::apply_override(cfg, std::string("axes.") + a + ".max_vel_mm_s=100");
+    machine::apply_override(cfg, std::string("axes.") + a + ".max_acc_mm_s2=1000");
+    machine::apply_override(cfg, std::string("axes.") + a + ".max_jerk_mm_s3=0");
+    machine::apply_override(cfg, std::string("axes.") + a + ".ferror_limit_mm=1000");
+  }
+  machine::validate(cfg);
+  const auto res = app::simulate(prog, cfg);
+  ASSERT_TRUE(res.ok) << res.result;
+  const auto s = report::summarize(prog, cfg, res.trace);
+  EXPECT_LT(s.max_path_deviation_mm, 1e-6);
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_LE(s.axis[i].max_vel_mm_s, 100 * (1 + 1e-6)) << i;
+    EXPECT_LE(s.axis[i].max_acc_mm_s2, 1000 * (1 + 1e-6)) << i;
+  }
+}

@@ -221,6 +221,16 @@ Vec Segment::max_abs_tangent() const {
 }
 
 // rt-safe
+Vec Segment::max_abs_normal() const {
+  Vec m;
+  if (kind != SegmentKind::Arc) return m;
+  const double a0 = std::min(theta0, theta0 + sweep), a1 = std::max(theta0, theta0 + sweep);
+  m[axis0] = max_abs_trig(a0, a1, 0);  // the normal is −(cos θ, sin θ)
+  m[axis1] = max_abs_trig(a0, a1, std::numbers::pi / 2);
+  return m;
+}
+
+// rt-safe
 double Segment::max_curvature() const {
   if (kind == SegmentKind::Poly) return poly.max_curvature;
   if (kind == SegmentKind::Line || length <= 0) return 0;

@@ -69,6 +69,9 @@ struct Segment {
   // planner needs for per-axis speed and centripetal limits. Exact for lines and arcs, densely
   // sampled for Poly. rt-safe.
   Vec max_abs_tangent() const;
+  // Arcs: the largest |share| of the centripetal direction (towards the centre) per in-plane axis
+  // over the sweep (1 where the sweep passes the axis's direction): the planner's sweep bound.
+  Vec max_abs_normal() const;
   double max_curvature() const;
 
   // Arcs: bounds over the whole arc for the planner's limits. inplane ≥ |in-plane part of

@@ -183,15 +183,26 @@ CurveLaw segment_law(const Segment& g, const MachineLimits& lim) {
     // phase apart) → a_t ≤ √(A_i² − κ²w²) / inplane.
     const auto ab = g.arc_bounds();
     const double inplane = ab.inplane, kappa = ab.kappa;
+    // A true circle also has the sweep bound a_t·T_i + v²κ·N_i ≤ A_i with the shares over its own
+    // sweep (as blends): an arc piece near an axis's direction loads that axis with mostly one of
+    // the two (the Channel cuts long arcs into pieces of at most 45° for this).
+    const bool circle = g.dradius == 0;
+    const Vec tmax = g.max_abs_tangent(), nmax = g.max_abs_normal();
     if (inplane >= kTiny)
       for (std::size_t i : {std::size_t{g.axis0}, std::size_t{g.axis1}}) {
         const double amax = ab.share * lim.axis[i].a_max_mm_s2;
-        v = std::min(v, lim.axis[i].v_max_mm_s / inplane);
+        const double tm = circle ? tmax[i] : inplane, nm = circle ? nmax[i] : 1.0;
+        if (tm >= kTiny) v = std::min(v, lim.axis[i].v_max_mm_s / tm);
+        if (kappa > 0 && nm >= kTiny) l.w_cap = std::min(l.w_cap, amax / (kappa * nm));
+        if (tm < kTiny) continue;  // only the normal loads this axis here: the cap is all
         TangentTerm t;
         t.c = amax / inplane;
         t.d = kappa / inplane;
+        if (circle) {
+          t.alpha = amax / tm;
+          t.beta = kappa * nm / tm;
+        }
         l.add(t);
-        if (kappa > 0) l.w_cap = std::min(l.w_cap, amax / kappa);
       }
     linear_axes(g.linear);
   } else {

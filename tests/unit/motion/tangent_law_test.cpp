@@ -208,3 +208,37 @@ TEST(TangentLaw, CurvesOnMoreAxesThanTheLawHoldsKeepTheSplit) {
 }
 }  // namespace
 }  // namespace softmc::motion
+
+namespace softmc::motion {
+namespace {
+// Arc pieces of at most 45° (the Channel cuts arcs so without jerk limits) use their own sweep's
+// tangent and normal shares: at every speed up to the piece's cap, every point of every random
+// piece keeps both axes within their limits, and the pieces near an axis's direction allow more
+// tangential acceleration than the whole circle does.
+TEST(TangentLaw, ArcPieceLawKeepsEveryAxisOverItsSweep) {
+  const MachineLimits lim = xy(1000, 1000);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0, 1);
+  const double r = 4;
+  const CurveLaw whole = segment_law(make_arc({r, 0}, {r, 0}, 0, 1, 0, 0, 1), lim);
+  bool gained = false;
+  for (int n = 0; n < 300; ++n) {
+    const double a0 = 2 * std::numbers::pi * u(rng), sw = (0.05 + 0.735 * u(rng)) * (rng() % 2 ? 1 : -1);
+    const Segment arc = make_arc({r * std::cos(a0), r * std::sin(a0)}, {r * std::cos(a0 + sw), r * std::sin(a0 + sw)}, 0, 1,
+                                 0, 0, sw > 0 ? 1 : -1);
+    const CurveLaw c = segment_law(arc, lim);
+    const double w_cap = c.v_max_mm_s * c.v_max_mm_s;
+    for (double f = 0; f <= 1; f += 0.05) {
+      const double w = f * w_cap, at = c.law.at(w);
+      if (at > whole.law.at(w) * 1.01) gained = true;
+      for (int k = 0; k <= 20; ++k) {
+        const double s = arc.length * k / 20;
+        const Vec acc = arc.tangent(s) * at + arc.curvature(s) * w;
+        for (std::size_t i = 0; i < 2; ++i) ASSERT_LE(std::abs(acc[i]), 1000 * (1 + 1e-9)) << n << " " << f;
+      }
+    }
+  }
+  EXPECT_TRUE(gained);
+}
+}  // namespace
+}  // namespace softmc::motion
