@@ -102,8 +102,9 @@ TEST(TangentLaw, BlendLawUsesTheAxesTheSweepLoads) {
 }
 
 // A half circle R = 5 between two tangent lines, at a feed above its cap: it is crossed faster than
-// the split's cap √(0.8·a·R), never above √(a·R), and the trace keeps every axis's limits. (A lone
-// circle from rest keeps one acceleration per ramp and so cruises lower: docs/planner.md.)
+// the split's cap √(0.8·a·R), never above √(a·R), and the trace keeps every axis's limits. (As one
+// block, a lone circle from rest keeps one acceleration per ramp and cruises lower: the Channel
+// cuts arcs into 45° pieces for that, docs/planner.md.)
 TEST(TangentLaw, TangentArcRunsAboveTheSplitCap) {
   const MachineLimits lim = xy(1000, 1000);
   std::vector<PathRequest> reqs(3);
