@@ -26,7 +26,9 @@ class Channel {
   // a curve that cannot be built faults the channel when the program reaches it. With jerk limits,
   // runs of short lines are smoothed here too (PlannerConfig::smoothing_max_turn_rad).
   void load(const program::Program& prog);
-  // rt-safe: start from the first instruction (Idle or Finished), planning from `from`.
+  // rt-safe: start from the first instruction (Idle or Finished), planning from `from`. Curves,
+  // smoothed runs and arc pieces were built at load from the program's start point: `from` must be
+  // that point (the applications pass it).
   bool start(const core::Vec& from);
   // rt-safe: executes until the program blocks (queue full, waiting for motion, dwell) or the budget ends.
   void update(double dt_s);

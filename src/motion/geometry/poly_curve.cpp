@@ -316,8 +316,11 @@ double PolyCurve::finalize() {
   max_abs_tangent = Vec{};
   max_curvature = 0;
   max_dcurvature = 0;
-  // Cubics (splines, G5, smoothed CAM runs, by far the most built) vary slowly enough for 256.
-  const int kSamples = basis == PolyBasis::Bezier && degree <= 3 ? 256 : 1024;
+  // Polynomial cubics (splines, G5, smoothed CAM runs, by far the most built) vary slowly enough
+  // for 256; rational pieces (NURBS) keep 1024.
+  bool polynomial = basis == PolyBasis::Bezier && degree <= 3;
+  for (std::size_t i = 0; polynomial && i <= degree; ++i) polynomial = bez.w[i] == 1;
+  const int kSamples = polynomial ? 256 : 1024;
   Vec k_prev;
   double sp_prev = 0;
   for (int i = 0; i <= kSamples; ++i) {

@@ -116,7 +116,9 @@ const Setpoint& Interpolator::step(double dt) {
   if (std::isfinite(ring.front().j_mm_s3) && !started_) return step_jerk(dt);
   if (started_) {
     const Inputs in = inputs(ring.front());
-    if (!(in == in_)) replan(ring.front(), in);
+    // Braking to a hold or a stop on a curve: the law allows more as the speed falls, so the brake
+    // is planned again every cycle from where it is (one ramp each: bounded).
+    if (!(in == in_) || (halt() && ring.front().law.n > 0)) replan(ring.front(), in);
   }
   double left = dt;
   for (int n = 0; n < config_.max_blocks_per_cycle; ++n) {

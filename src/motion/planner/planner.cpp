@@ -186,7 +186,7 @@ CurveLaw segment_law(const Segment& g, const MachineLimits& lim) {
     // A true circle also has the sweep bound a_t·T_i + v²κ·N_i ≤ A_i with the shares over its own
     // sweep (as blends): an arc piece near an axis's direction loads that axis with mostly one of
     // the two (the Channel cuts long arcs into pieces of at most 45° for this).
-    const bool circle = g.dradius == 0;
+    const bool circle = std::abs(g.dradius) <= 1e-9 * g.radius;  // arc pieces carry rounding only
     const Vec tmax = g.max_abs_tangent(), nmax = g.max_abs_normal();
     if (inplane >= kTiny)
       for (std::size_t i : {std::size_t{g.axis0}, std::size_t{g.axis1}}) {
@@ -359,7 +359,8 @@ PlanResult Planner::emit_stage() {
 void Planner::set_law(Block& b, const CurveLaw& c) const {
   if (std::isinf(b.j_mm_s3) && config_.speed_dependent_tangential && !c.law.full) {
     b.law = c.law;
-    b.v_cap_mm_s = c.v_max_mm_s;
+    // Never cruise where no tangential acceleration is left: a hold or a stop must always brake.
+    b.v_cap_mm_s = std::min(c.v_max_mm_s, std::sqrt(b.law.reserve_w(config_.tangential_reserve)));
   } else {
     b.law = TangentLaw::constant(b.a_mm_s2);
   }
@@ -449,6 +450,16 @@ PlanResult Planner::plan(const PathRequest& req, double merge_dev_mm, std::uint3
   return PlanResult::Ok;
 }
 
+namespace {
+// rt-safe. Largest curvature of a block (1/mm).
+double max_curvature(const Block& b) {
+  if (b.is_blend) return 1 / b.blend.radius;
+  if (b.seg.kind == SegmentKind::Arc) return b.seg.arc_bounds().kappa;
+  if (b.seg.kind == SegmentKind::Poly) return b.seg.max_curvature();
+  return 0;
+}
+}  // namespace
+
 // rt-safe. A corner that is not blended (one side an arc or a curve, or lines under G64 with P too
 // small) is crossed at speed when that speed turns every axis within one cycle's share of its
 // acceleration (and jerk): v·|t_out,i − t_in,i| ≤ share·a_i·dt, the discrete form of grbl's junction
@@ -468,8 +479,18 @@ void Planner::kink(Block& a, Block& b) const {
     if (jerk) room = std::min(room, limits_.axis[i].j_max_mm_s3 * dt * dt);
     v = std::min(v, config_.kink_share * room / d);
   }
-  if (!(v >= config_.min_kink_speed_mm_s)) return;  // too slow to be worth the lost acceleration: stop
   const double keep = 1 - config_.kink_share;
+  // The one-cycle impulse adds to the neighbours' centripetal acceleration too: within the cycle
+  // that crosses the kink (speed ≤ v + that cycle's gain), v²κ may use at most `keep` of the axes.
+  double a_min = kInf, a_path = 0;
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i)
+    if (limits_.present(i)) a_min = std::min(a_min, limits_.axis[i].a_max_mm_s2);
+  for (const Block* n : {&a, &b}) a_path = std::max({a_path, n->a_mm_s2, n->law.at(0)});
+  for (const Block* n : {&a, &b}) {
+    const double k = max_curvature(*n);
+    if (k > 0 && std::isfinite(a_min)) v = std::min(v, std::sqrt(keep * a_min / k) - a_path * dt);
+  }
+  if (!(v >= config_.min_kink_speed_mm_s)) return;  // too slow to be worth the lost acceleration: stop
   a.a_mm_s2 *= keep;
   a.law.scale *= keep;
   a.j_mm_s3 *= keep;

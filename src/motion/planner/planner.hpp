@@ -33,6 +33,10 @@ struct PlannerConfig {
   // speed_dependent_tangential is false (then the split applies to them too).
   double centripetal_share = 0.8;
   bool speed_dependent_tangential = true;
+  // Trapezoid curves cruise at most where the law still leaves this share of the tangential
+  // acceleration it allows at rest (a hold or stop then brakes with at least that; on a circle the
+  // cap is √(1 − 0.25²) ≈ 0.968 of the full centripetal limit in v², 0.984 in v).
+  double tangential_reserve = 0.25;
   // Corners that are not blended but nearly tangent (arcs in rounded G-code) are crossed at speed
   // within this share of each axis's acceleration/jerk per cycle; the neighbours keep the rest.
   double kink_share = 0.25;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace softmc::motion {
 
@@ -45,6 +46,22 @@ double TangentLaw::at(double w) const {
   double g = a_const;
   for (std::size_t i = 0; i < n; ++i) g = std::min(g, term[i].at(w));
   return scale * std::max(0.0, g);
+}
+
+// rt-safe. Each bound is ≥ r·g(0) up to its own point (the larger of its two parts'); the law up to
+// the smallest of those.
+double TangentLaw::reserve_w(double share) const {
+  const double g0 = at(0) / scale;
+  const double r = share * g0;
+  double w = w_cap;
+  for (std::size_t i = 0; i < n; ++i) {
+    const TangentTerm& t = term[i];
+    double wi = 0;
+    if (std::isfinite(t.alpha) && t.alpha >= r) wi = t.beta > 0 ? (t.alpha - r) / t.beta : std::numeric_limits<double>::infinity();
+    if (t.c >= r) wi = std::max(wi, t.d > 0 ? std::sqrt(t.c * t.c - r * r) / t.d : std::numeric_limits<double>::infinity());
+    w = std::min(w, wi);
+  }
+  return w;
 }
 
 // rt-safe. The law is a min of falling bounds, so its root is the smallest of theirs.

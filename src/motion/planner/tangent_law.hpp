@@ -55,6 +55,9 @@ struct TangentLaw {
   bool add(const TangentTerm& t);
   bool full = false;  // a term did not fit: the law is incomplete and must not be used
 
+  // rt-safe. Largest speed² at which the law still leaves `share` of what it allows at rest (the
+  // speed cap that keeps a brake always possible; closed form per bound, ≤ w_cap).
+  double reserve_w(double share) const;
   // rt-safe. Tangential acceleration allowed at speed² w (mm/s²).
   double at(double w) const;
   // rt-safe. Largest speed² w ≥ x with w − x ≤ k·at(w): the entry speed² from which a distance k/2

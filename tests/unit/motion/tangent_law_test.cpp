@@ -243,3 +243,76 @@ TEST(TangentLaw, ArcPieceLawKeepsEveryAxisOverItsSweep) {
 }
 }  // namespace
 }  // namespace softmc::motion
+
+namespace softmc::motion {
+namespace {
+// A kink (a corner between two arcs, never blended) where both arcs cruise near their cap:
+// the kink's one-cycle impulse comes on top of the arc's centripetal acceleration, so the kink
+// speed leaves that room; and a hold on the arc brakes with at least the reserve (the cap keeps
+// tangential_reserve of the law), re-planned as the speed falls.
+TEST(TangentLaw, KinkAndHoldOnAnArcAtItsCapKeepTheLimits) {
+  const MachineLimits lim = xy(1000, 1000);
+  std::vector<PathRequest> reqs(3);
+  reqs[0].geom = make_line({-50, 0}, {0, 0});
+  reqs[1].geom = make_arc({0, 0}, {0, 10}, 0, 1, 0, 5, 1);  // half circle R5, ends heading −x
+  const double off = 0.0036;  // rad: a corner between two arcs (never blended): a kink
+  // A second half circle R5 on the same side, its start heading turned `off` towards the centre:
+  // both neighbours of the kink carry their full centripetal acceleration on the same axis.
+  const double cx = 5 * std::sin(off), cy = 10 - 5 * std::cos(off);
+  reqs[2].geom = make_arc({0, 10}, {2 * cx, 2 * cy - 10}, 0, 1, cx, cy, 1);
+  for (std::size_t k = 0; k < reqs.size(); ++k) {
+    reqs[k].feed_mm_s = 200;
+    reqs[k].profile = ProfileKind::Trapezoid;
+    reqs[k].tolerance_mm = 0.001;  // arcs are never blended: the corner is a kink
+    reqs[k].tag = static_cast<std::uint32_t>(k);
+  }
+  const auto res = run_path(lim, reqs, 64);
+  ASSERT_TRUE(res.finished);
+  EXPECT_LE(res.fig.a_ratio, 1 + 1e-5) << res.fig.describe();
+  EXPECT_LE(res.fig.v_ratio, 1 + 1e-5) << res.fig.describe();
+  // Hold at the middle of the half circle (about 10 ms after the line ends at the cap), release
+  // 0.3 s later: the brake and the restart keep the limits, and the hold brakes promptly.
+  std::uint64_t held_at = 0, rest_at = 0;
+  const auto hold = run_path(lim, reqs, 64, {}, [&](std::uint64_t c, Interpolator& in) {
+    const bool on_arc = in.setpoint().tag == 1;
+    if (on_arc && held_at == 0) held_at = c + 100;
+    in.set_feed_hold(held_at != 0 && c >= held_at && c < held_at + 300);
+    if (held_at != 0 && c > held_at && rest_at == 0 && in.setpoint().path_v == 0) rest_at = c;
+  });
+  ASSERT_TRUE(hold.finished);
+  EXPECT_LE(hold.fig.a_ratio, 1 + 1e-5) << hold.fig.describe();
+  ASSERT_GT(rest_at, held_at);
+  EXPECT_LT(rest_at - held_at, 400u);  // 70 mm/s at ≥ 250 mm/s² reserve: well under 0.4 s
+}
+}  // namespace
+}  // namespace softmc::motion
+
+namespace softmc::motion {
+namespace {
+// The cruise cap of a trapezoid curve keeps `tangential_reserve` of the law (a hold or stop always
+// brakes with at least that): reserve_w is exactly where the law falls to that share.
+TEST(TangentLaw, ReserveCapLeavesTheShareOfTheLaw) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int n = 0; n < 5000; ++n) {
+    TangentLaw l;
+    for (int t = 0; t < 1 + static_cast<int>(rng() % 3); ++t) {
+      TangentTerm tt;
+      tt.alpha = 100 + 5000 * u(rng);
+      tt.beta = 0.01 + 10 * u(rng);
+      tt.c = 100 + 5000 * u(rng);
+      tt.d = 0.01 + 10 * u(rng);
+      l.add(tt);
+    }
+    const double r = 0.05 + 0.9 * u(rng), g0 = l.at(0);
+    const double w = l.reserve_w(r);
+    ASSERT_GT(w, 0);
+    EXPECT_GE(l.at(w), r * g0 * (1 - 1e-9)) << n;
+    EXPECT_LT(l.at(w * (1 + 1e-6) + 1e-6), r * g0) << n;
+  }
+  // A circle R5 at 1000 mm/s²: the cap is √(1 − r²) of the centripetal limit in v².
+  const auto c = segment_law(make_arc({5, 0}, {5, 0}, 0, 1, 0, 0, 1), xy(1000, 1000));
+  EXPECT_NEAR(c.law.reserve_w(0.25), std::sqrt(1 - 0.25 * 0.25) * 5000, 1e-6);
+}
+}  // namespace
+}  // namespace softmc::motion
