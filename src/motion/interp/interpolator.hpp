@@ -11,6 +11,7 @@
 
 #include <cstdint>
 
+#include "motion/interp/jerk_guard.hpp"
 #include "motion/interp/velocity_ramp.hpp"
 #include "motion/limits.hpp"
 #include "motion/planner/plan_queue.hpp"
@@ -41,6 +42,9 @@ struct InterpolatorConfig {
   // Jerk mode: the guard ends its brake simulation where the rest is one closed-form ramp that keeps
   // every limit (same verdicts, bit-identical setpoints); false simulates to rest (tests, benchmarks).
   bool guard_closed_form = true;
+  // Jerk mode: the guard answers its brake's range queries from a per-cycle index of the window
+  // (same answers as walking the blocks; false walks them: tests, benchmarks).
+  bool guard_index = true;
 };
 
 // True when any present axis has a jerk limit (blocks then carry a finite j_mm_s3: the jerk follower runs).
@@ -49,7 +53,7 @@ bool jerk_mode(const MachineLimits& lim);
 class Interpolator {
  public:
   Interpolator(PlanQueue& queue, const Vec& start, const InterpolatorConfig& config = {})
-      : queue_(queue), config_(config) {
+      : queue_(queue), config_(config), scratch_(queue.ring().capacity()) {
     sp_.pos = start;
   }
 
@@ -94,6 +98,7 @@ class Interpolator {
 
   PlanQueue& queue_;
   InterpolatorConfig config_;
+  GuardScratch scratch_;  // the jerk guard's per-cycle index, sized for the whole window
   Setpoint sp_;
   bool started_ = false;  // the front block has begun
   VelocityRamp ramp_;

@@ -64,7 +64,7 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   // refused, a position-mode stop on the point it missed, a ramp to the speed it missed, holding the
   // acceleration, lowering it, and π itself — the fastest accepted one wins. π is always safe from
   // an accepted state (the check of the previous cycle covered it), so it is also the last resort.
-  const JerkGuard guard(ring, n, s_, v_, dt, scale, h, override_);
+  const JerkGuard guard(ring, n, s_, v_, dt, scale, h, override_, config_.guard_index ? &scratch_ : nullptr);
   PathStep step = ramp_cycle(now, vt, a_c, j_c, dt);
   const GuardVerdict first = guard.verify(step, config_.guard_closed_form);
   if (first.failed()) {

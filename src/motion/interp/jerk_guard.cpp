@@ -86,9 +86,75 @@ PathStep jerk_cycle(const ProfileState& x, double j, double dt) {
 }
 
 JerkGuard::JerkGuard(const core::Ring<Block>& ring, std::size_t n, double s_front, double v_now, double dt,
-                     double scale, bool halt, double feed_override)
+                     double scale, bool halt, double feed_override, GuardScratch* scratch)
     : ring_(ring), n_(n), s_front_(s_front), v_now_(v_now), dt_(dt), scale_(scale), halt_(halt),
-      override_(feed_override) {}
+      override_(feed_override), scratch_(scratch && scratch->start.size() >= n + 1 ? scratch : nullptr) {}
+
+// rt-safe
+double JerkGuard::jerk_min_walk(std::size_t from, double first, double p, double d, double j) const {
+  double start = first;
+  for (std::size_t k = from; k < n_ && start - p < d && ring_.at(k).v2_junction > 0; ++k) {
+    j = std::min(j, jerk(k));
+    start += ring_.at(k).length;
+  }
+  return j;
+}
+
+// rt-safe. Extends the index while the last indexed block starts within d of p. Block starts are
+// summed in the order check() and brake() sum them (from −s_front), so they are the same numbers.
+void JerkGuard::index_until(double p, double d) const {
+  GuardScratch& g = *scratch_;
+  if (built_ == 0) {
+    g.start[0] = -s_front_;
+    built_ = 1;
+  }
+  while (built_ <= n_ && g.start[built_ - 1] - p < d) {
+    const std::size_t k = built_ - 1;  // index block k: its jerk, and the start of k + 1
+    const Block& b = ring_.at(k);
+    g.jerk[k] = jerk(k);
+    if (b.v2_junction <= 0) g.stops[nstops_++] = k;
+    const std::size_t q = k / GuardScratch::kGroup;
+    g.group_min[q] = k % GuardScratch::kGroup == 0 ? g.jerk[k] : std::min(g.group_min[q], g.jerk[k]);
+    g.start[built_] = g.start[k] + b.length;
+    ++built_;
+    if (built_ > n_) break;
+  }
+}
+
+// rt-safe. The walk's answer from the index: the blocks from `from` up to the first that starts d
+// or more beyond p, the first exact stop, or n.
+double JerkGuard::jerk_min(std::size_t from, double first, double p, double d, double j) const {
+  if (!scratch_) return jerk_min_walk(from, first, p, d, j);
+  const GuardScratch& g = *scratch_;
+  index_until(p, d);
+  // g.start[k] for k ≥ 1 equals the walk's `start` at block k (same additions); block k is taken
+  // while k < n, start − p < d, and it is no stop. Indexed blocks: 0 … built_ − 1 (jerks) and
+  // starts 0 … built_ − 1 (the loop above stops once a start is d beyond p, or at n).
+  if (from >= n_ || !(g.start[from] == first)) return jerk_min_walk(from, first, p, d, j);
+  std::size_t lo = from, hi = std::min(built_ - 1, n_);  // first k in [from, hi] failing start − p < d
+  while (lo < hi) {
+    const std::size_t mid = lo + (hi - lo) / 2;
+    if (g.start[mid] - p < d) lo = mid + 1; else hi = mid;
+  }
+  std::size_t end = lo;  // blocks [from, end) start within d (end ≤ built_ − 1 < number of jerks)
+  if (end > built_ - 1) end = built_ - 1;
+  // The first exact stop at or after `from` ends the range too.
+  std::size_t a = 0, b = nstops_;
+  while (a < b) {
+    const std::size_t mid = a + (b - a) / 2;
+    if (g.stops[mid] < from) a = mid + 1; else b = mid;
+  }
+  if (a < nstops_) end = std::min(end, g.stops[a]);
+  constexpr std::size_t G = GuardScratch::kGroup;
+  std::size_t k = from;
+  while (k < end && k % G != 0) j = std::min(j, g.jerk[k++]);
+  while (k + G <= end) {
+    j = std::min(j, g.group_min[k / G]);
+    k += G;
+  }
+  while (k < end) j = std::min(j, g.jerk[k++]);
+  return j;
+}
 
 double JerkGuard::acc(std::size_t k) const { return ring_.at(k).a_mm_s2 * scale_; }
 
@@ -200,12 +266,7 @@ PathStep JerkGuard::brake(const ProfileState& x, double p, const Cursor& c) cons
       const double d = ramp_end({0, x.v, a0, 0}, plan_ramp(x.v, a0, 0, a_eff, j_eff)).s +
                        v_up * (std::abs(x.a) / j_eff + 2 * dt_);
       if (!(d > horizon)) break;
-      double j_new = j_eff;
-      start = first;
-      for (std::size_t k = c.k + 1; k < n_ && start - p < d && ring_.at(k).v2_junction > 0; ++k) {
-        j_new = std::min(j_new, jerk(k));
-        start += ring_.at(k).length;
-      }
+      const double j_new = jerk_min(c.k + 1, first, p, d, j_eff);
       horizon = d;
       if (j_new == j_eff) break;
       j_eff = j_new;

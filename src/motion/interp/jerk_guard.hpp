@@ -17,6 +17,7 @@
 #pragma once
 
 #include <cstddef>
+#include <vector>
 
 #include "core/ring.hpp"
 #include "motion/planner/block.hpp"
@@ -51,13 +52,26 @@ struct GuardVerdict {
   bool failed() const { return !hard_ok || !soft_ok; }
 };
 
+// Per-cycle index of the window for the guard, sized once (Interpolator construction): block starts
+// from now, each block's jerk limit and the minimum of each group of 16, and the exact stops, filled
+// lazily as far as a brake looks. brake() asks "the smallest jerk from block k while a block starts
+// within d of p" in every simulated cycle; with the index that is a binary search and a few group
+// minima instead of a walk over every block to the stop point, with exactly the same answer.
+struct GuardScratch {
+  static constexpr std::size_t kGroup = 16;
+  explicit GuardScratch(std::size_t blocks)
+      : start(blocks + 1), jerk(blocks + 1), group_min(blocks / kGroup + 2), stops(blocks + 1) {}
+  std::vector<double> start, jerk, group_min;
+  std::vector<std::size_t> stops;
+};
+
 class JerkGuard {
  public:
   // `n` blocks of `ring` from the front (the rest is beyond the horizon: its start is a stop);
   // `s_front` the distance into the front block, `v_now` the present speed (the front block's soft
   // cap is relaxed to it: an override that dropped cannot be obeyed instantly); `scale` scales A, J.
   JerkGuard(const core::Ring<Block>& ring, std::size_t n, double s_front, double v_now, double dt, double scale,
-            bool halt, double feed_override);
+            bool halt, double feed_override, GuardScratch* scratch = nullptr);
 
   // rt-safe. Checks the step from now, then π from where it ends, cycle by cycle until rest (or, with
   // `closed_form`, until the rest of π is one ramp that provably keeps every limit: same verdict).
@@ -80,12 +94,20 @@ class JerkGuard {
   bool check(Cursor& c, double p0, double v0, const PathStep& st, GuardVerdict& verdict) const;
   double soft(std::size_t k) const;
   bool fail(GuardVerdict& v, bool hard, double at, double u, bool stop) const;
+  // min(j, jerk(k)) over k = from, from + 1, … while k < n, the block starts within d of p
+  // (start − p < d) and it is no exact stop: the walk, or the index when there is one.
+  double jerk_min_walk(std::size_t from, double first, double p, double d, double j) const;
+  double jerk_min(std::size_t from, double first, double p, double d, double j) const;
+  void index_until(double p, double d) const;
 
   const core::Ring<Block>& ring_;
   std::size_t n_;
   double s_front_, v_now_, dt_, scale_;
   bool halt_;
   double override_;
+  GuardScratch* scratch_;
+  mutable std::size_t built_ = 0;  // blocks indexed (their starts and jerks), from the front
+  mutable std::size_t nstops_ = 0;
 };
 
 }  // namespace softmc::motion

@@ -32,6 +32,18 @@ void expect_within(const RunResult& res, double tol, const char* what) {
   EXPECT_LE(res.fig.j_ratio, 1 + kRatioNoise) << what << ": " << res.fig.describe();
   EXPECT_LE(res.fig.deviation_mm, tol + 1e-9) << what << ": " << res.fig.describe();
 }
+// Two runs of the same path that differ only in how the guard computes its verdicts: the setpoints
+// must be bit-identical, and within every limit and P.
+void expect_identical_runs(const MachineLimits& lim, const std::vector<PathRequest>& reqs, const InterpolatorConfig& ca,
+                           const InterpolatorConfig& cb, std::uint64_t seed) {
+  std::vector<core::Vec> a, b;
+  const auto ra = run_path(lim, reqs, 256, {}, {}, 20'000'000, ca, &a);
+  const auto rb = run_path(lim, reqs, 256, {}, {}, 20'000'000, cb, &b);
+  ASSERT_TRUE(ra.finished && rb.finished) << "seed " << seed;
+  ASSERT_EQ(a.size(), b.size()) << "seed " << seed;
+  for (std::size_t k = 0; k < a.size(); ++k) ASSERT_EQ(a[k], b[k]) << "seed " << seed << " cycle " << k;
+  expect_within(rb, 0.05, ("seed " + std::to_string(seed)).c_str());
+}
 }  // namespace
 
 // A single line: the online follower is as fast as the closed-form S-curve for the whole line.
@@ -216,36 +228,37 @@ TEST(PlannerJerk, T2_RoundedRectangleCrossesTangentJunctionsWithoutSlowing) {
   }
 }
 
-// The guard's closed-form tail (InterpolatorConfig::guard_closed_form) is only a shortcut: where the
-// rest of the brake is one ramp that keeps every limit it stops simulating, with the same verdicts.
-// The setpoints must be bit-identical to the cycle-by-cycle simulation on random paths.
-TEST(PlannerJerk, GuardClosedFormTailGivesTheSameSetpoints) {
+// The guard's two shortcuts change how it reaches its verdicts, never the verdicts: the closed-form
+// tail (InterpolatorConfig::guard_closed_form: where the rest of the brake is one ramp that keeps
+// every limit it stops simulating) and the index of the window (guard_index: the brake's "smallest
+// jerk up to the stop point" without walking the blocks). On random paths with exact stops (G61
+// corners), short blocks and varying limits, each must give setpoints bit-identical to the plain
+// cycle-by-cycle simulation that walks every block.
+TEST(PlannerJerk, GuardShortcutsGiveTheSameSetpoints) {
   for (std::uint64_t seed = 1; seed <= 40; ++seed) {
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> u(0, 1);
     const auto lim = jerk_limits(50 + 200 * u(rng), 300 + 3000 * u(rng), 5000 + 50000 * u(rng));
     std::vector<PathRequest> reqs;
     core::Vec at = xyz(0, 0, 0);
-    const int n = 5 + static_cast<int>(rng() % 30);
+    const int n = 5 + static_cast<int>(rng() % 60);
     for (int k = 0; k < n; ++k) {
       core::Vec to = at;
-      const double len = rng() % 3 ? 0.2 + 2 * u(rng) : 5 + 30 * u(rng);
+      const double len = rng() % 3 ? 0.05 + 2 * u(rng) : 5 + 30 * u(rng);
       const double ang = (u(rng) - 0.5) * (rng() % 2 ? 0.3 : 3.0);
       to[0] += len * std::cos(ang + k * 0.2);
       to[1] += len * std::sin(ang + k * 0.2);
+      to[2] += rng() % 2 ? 0.3 * (u(rng) - 0.5) : 0.0;
       reqs.push_back(line_req(at, to, 20 + 200 * u(rng), static_cast<std::uint32_t>(k), rng() % 4 ? 0.05 : 0.0));
       at = to;
     }
-    InterpolatorConfig sim, closed;
-    sim.guard_closed_form = false;
-    closed.guard_closed_form = true;
-    std::vector<core::Vec> a, b;
-    const auto ra = run_path(lim, reqs, 256, {}, {}, 20'000'000, sim, &a);
-    const auto rb = run_path(lim, reqs, 256, {}, {}, 20'000'000, closed, &b);
-    ASSERT_TRUE(ra.finished && rb.finished) << "seed " << seed;
-    ASSERT_EQ(a.size(), b.size()) << "seed " << seed;
-    for (std::size_t k = 0; k < a.size(); ++k) ASSERT_EQ(a[k], b[k]) << "seed " << seed << " cycle " << k;
-    expect_within(rb, 0.05, ("seed " + std::to_string(seed)).c_str());
+    InterpolatorConfig plain, closed, index;
+    plain.guard_closed_form = false;
+    plain.guard_index = false;
+    closed.guard_index = false;
+    index.guard_closed_form = false;
+    expect_identical_runs(lim, reqs, plain, closed, seed);
+    expect_identical_runs(lim, reqs, plain, index, seed);
   }
 }
 
