@@ -140,11 +140,6 @@ TEST(PolylineSmoothing, JerkLimitedRunKeepsEveryLimit) {
   EXPECT_EQ(res.end, pts.back());
 }
 
-}  // namespace
-}  // namespace softmc::motion
-
-namespace softmc::motion {
-namespace {
 // A very long run is cut into runs of at most max_run_lines, each ending exactly on a programmed
 // point: bounded work and splitting depth whatever the program.
 TEST(PolylineSmoothing, LongRunsAreCutIntoBoundedRuns) {

@@ -149,11 +149,6 @@ TEST(TangentLaw, BlendedPolylinesRunFasterThanTheSplitWithinEveryLimit) {
   EXPECT_LT(law.cycles, split.cycles * 0.97) << law.cycles << " vs " << split.cycles;
 }
 
-}  // namespace
-}  // namespace softmc::motion
-
-namespace softmc::motion {
-namespace {
 // plasma.ngc's notch with an end further off the circle: the corner is an exact stop and the trace
 // has no jump there (before the spiral the arc ended on its start circle, short of the end, and the
 // setpoint jumped to it: 0.54 µm in plasma.ngc, 48 samples over the jerk limit).
@@ -175,11 +170,6 @@ TEST(TangentLaw, ArcWithAnEndOffTheCircleKeepsTheLimitsAtTheNextCorner) {
   EXPECT_LE(res.fig.a_ratio, 1 + 1e-5) << res.fig.describe();
   EXPECT_EQ(res.end, reqs.back().geom.end);
 }
-}  // namespace
-}  // namespace softmc::motion
-
-namespace softmc::motion {
-namespace {
 // A blend that moves five axes needs five terms, more than a law holds: it keeps the fixed split
 // (a correct, slower law) and the run keeps every limit.
 TEST(TangentLaw, CurvesOnMoreAxesThanTheLawHoldsKeepTheSplit) {
@@ -207,11 +197,6 @@ TEST(TangentLaw, CurvesOnMoreAxesThanTheLawHoldsKeepTheSplit) {
   EXPECT_LE(res.fig.a_ratio, 1 + 1e-5) << res.fig.describe();
   EXPECT_LE(res.fig.deviation_mm, 0.1 + 1e-9);
 }
-}  // namespace
-}  // namespace softmc::motion
-
-namespace softmc::motion {
-namespace {
 // Arc pieces of at most 45° (the Channel cuts arcs so without jerk limits) use their own sweep's
 // tangent and normal shares: at every speed up to the piece's cap, every point of every random
 // piece keeps both axes within their limits, and the pieces near an axis's direction allow more
@@ -241,11 +226,6 @@ TEST(TangentLaw, ArcPieceLawKeepsEveryAxisOverItsSweep) {
   }
   EXPECT_TRUE(gained);
 }
-}  // namespace
-}  // namespace softmc::motion
-
-namespace softmc::motion {
-namespace {
 // A kink (a corner between two arcs, never blended) where both arcs cruise near their cap:
 // the kink's one-cycle impulse comes on top of the arc's centripetal acceleration, so the kink
 // speed leaves that room; and a hold on the arc brakes with at least the reserve (the cap keeps
@@ -284,11 +264,6 @@ TEST(TangentLaw, KinkAndHoldOnAnArcAtItsCapKeepTheLimits) {
   ASSERT_GT(rest_at, held_at);
   EXPECT_LT(rest_at - held_at, 400u);  // 70 mm/s at ≥ 250 mm/s² reserve: well under 0.4 s
 }
-}  // namespace
-}  // namespace softmc::motion
-
-namespace softmc::motion {
-namespace {
 // The cruise cap of a trapezoid curve keeps `tangential_reserve` of the law (a hold or stop always
 // brakes with at least that): reserve_w is exactly where the law falls to that share.
 TEST(TangentLaw, ReserveCapLeavesTheShareOfTheLaw) {
