@@ -52,7 +52,9 @@ double ProgrammedPath::deviation_mm(const core::Vec& p, std::uint32_t tag, std::
       d = std::min(d, moves[m].segment.distance_to(p));
     return d;
   }
-  return std::min(core::distance(p, before[tag]), core::distance(p, after[tag]));
+  // At rest: where the instruction began or ended; a merged line ends where its last one does.
+  const std::uint32_t last = std::max(tag, tag_last) < after.size() ? std::max(tag, tag_last) : tag;
+  return std::min({core::distance(p, before[tag]), core::distance(p, after[tag]), core::distance(p, after[last])});
 }
 
 }  // namespace softmc::report

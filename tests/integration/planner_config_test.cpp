@@ -113,3 +113,16 @@ TEST(PlannerConfig, ArcsInPiecesKeepTheLimits) {
     EXPECT_LE(s.axis[i].max_acc_mm_s2, 1000 * (1 + 1e-6)) << i;
   }
 }
+
+// Collinear rapids on either side of a non-motion instruction (G80 between a canned cycle's retract
+// and a G0 up) merge into one line; at rest at its end the machine is where the last of them ends,
+// and the report measures it there (it measured 18 mm: the first one's end).
+TEST(PlannerConfig, MergedLinesAtRestAreMeasuredAtTheirLastInstruction) {
+  const auto prog = load("examples/gcode/drilling.ngc");
+  auto cfg = machine::load_machine(std::string(SOFTMC_SOURCE_DIR) + "/examples/machines/router.toml");
+  machine::validate(cfg);
+  const auto res = app::simulate(prog, cfg);
+  ASSERT_TRUE(res.ok) << res.result;
+  const auto s = report::summarize(prog, cfg, res.trace);
+  EXPECT_LT(s.max_path_deviation_mm, 0.05 + 1e-9);
+}
