@@ -1,9 +1,9 @@
 // Instruction sequencing of a Channel.
 #include "control/channel.hpp"
 
-#include "control/path.hpp"
-
 #include <cmath>
+
+#include "control/path.hpp"
 #include "motion/geometry/polyline_smoothing.hpp"
 
 namespace softmc::control {
@@ -31,7 +31,7 @@ void Channel::load(const program::Program& prog) {
   const auto n = prog.instructions.size();
   std::vector<std::vector<motion::Segment>> per(n);
   curve_error_.assign(n, nullptr);
-  smoothed_.assign(n, 0);
+  precomputed_.assign(n, 0);
   core::Vec at = prog.start;
   std::vector<motion::Segment> tmp;
   // Jerk mode: runs of short lines become curvature-continuous B-splines (polyline_smoothing.hpp).
@@ -52,7 +52,7 @@ void Channel::load(const program::Program& prog) {
       for (std::size_t k = 0; k < run_ins.size(); ++k)
         if (!run_out[k].empty()) {
           per[run_ins[k]] = std::move(run_out[k]);
-          smoothed_[run_ins[k]] = 1;
+          precomputed_[run_ins[k]] = 1;
         }
     }
     run_pts.clear();
@@ -88,7 +88,7 @@ void Channel::load(const program::Program& prog) {
           per[i].push_back(motion::make_arc(from, to, seg->axis0, seg->axis1, seg->c0, seg->c1, seg->sweep > 0 ? 1 : -1));
           from = to;
         }
-        smoothed_[i] = 1;
+        precomputed_[i] = 1;
       }
       at = seg->end;
     } else if (is_curve(op)) {
@@ -185,7 +185,7 @@ void Channel::update(double dt_s) {
       ++pc_;
       continue;
     }
-    if (is_curve(op) || smoothed_[pc_]) {
+    if (is_curve(op) || precomputed_[pc_]) {
       if (curve_error_[pc_]) return fail(curve_error_[pc_], motion::PlanResult::Infeasible);
       if (!push_curve(budget)) return;  // wait for room (or a planning fault)
       ++pc_;

@@ -68,7 +68,7 @@ class Channel {
   std::vector<std::uint32_t> curve_first_;
   std::vector<const char*> curve_error_;  // per instruction: why its curve could not be built, or null
   std::uint32_t curve_next_ = 0;           // next segment of the current curve to push
-  std::vector<std::uint8_t> smoothed_;     // per instruction: a line replaced by smoothing segments,
+  std::vector<std::uint8_t> precomputed_;     // per instruction: a line replaced by smoothing segments,
                                            // or an arc cut into pieces (pushed like a curve's)
 };
 

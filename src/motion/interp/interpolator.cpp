@@ -38,23 +38,27 @@ Interpolator::Inputs Interpolator::inputs(const Block& b) const {
 }
 
 // rt-safe. The acceleration of a ramp over `dist` from v0 (plan_ramp's cases): the law's value at the
-// highest speed² the ramp reaches, so that every point of it keeps the law (tangent_law.hpp).
+// highest speed² the ramp reaches, so that every point of it keeps the law (tangent_law.hpp). A
+// cruise at a curve's very cap leaves none: a floor far below any real axis keeps plan_ramp's
+// divisions finite.
 double Interpolator::ramp_acc(const TangentLaw& law, double dist, double v0, const Inputs& in) {
   const double w0 = v0 * v0;
   const double vc = std::max(0.0, in.vc);
-  if (v0 > vc) return law.at(w0);  // brakes from v0: v0 is the highest speed
   const double v1 = std::min({in.v1_want, in.v1_max, vc});
   const double w1 = v1 * v1;
-  const double wp = law.root(0.5 * (w0 + w1), dist);  // where an accelerating and a braking ramp meet
-  if (wp >= vc * vc) return law.at(vc * vc);          // they meet above the cruise speed: cruise
-  if (wp >= std::max(w0, w1)) return law.at(wp);
-  if (w1 > w0) return law.at(std::min(w1, law.root(w0, 2 * dist)));  // accelerates all the way
-  return law.at(w0);                                                  // brakes all the way
+  double w_top = w0;  // brakes from v0 (v0 above the cruise speed, or brakes all the way)
+  if (v0 <= vc) {
+    const double wp = law.root(0.5 * (w0 + w1), dist);  // where an accelerating and a braking ramp meet
+    if (wp >= vc * vc) w_top = vc * vc;                 // they meet above the cruise speed: cruise
+    else if (wp >= std::max(w0, w1)) w_top = wp;
+    else if (w1 > w0) w_top = std::min(w1, law.root(w0, 2 * dist));  // accelerates all the way
+  }
+  return std::max(law.at(w_top), 1e-6);
 }
-// rt-safe. A cruise at a curve's very cap leaves no tangential acceleration: a floor far below any
-// real axis keeps plan_ramp's divisions finite.
-double Interpolator::ramp_acc_floor(const TangentLaw& law, double dist, double v0, const Inputs& in) {
-  return std::max(ramp_acc(law, dist, v0, in), 1e-6);
+
+// rt-safe. plan_ramp over the rest `dist` of `b` from v0 with the inputs `in`, its acceleration from the law.
+VelocityRamp Interpolator::ramp_for(const Block& b, double dist, double v0, const Inputs& in) {
+  return plan_ramp(dist, v0, in.vc, in.v1_want, in.v1_max, in.acc_scale * ramp_acc(b.law, dist, v0, in));
 }
 
 // rt-safe. A new plan for the rest of `b` from the state sampled now.
@@ -66,7 +70,7 @@ void Interpolator::replan(const Block& b, const Inputs& in) {
     v_ = st.v;
   }
   const double dist = b.length - s;
-  ramp_ = plan_ramp(dist, v_, in.vc, in.v1_want, in.v1_max, in.acc_scale * ramp_acc_floor(b.law, dist, v_, in));
+  ramp_ = ramp_for(b, dist, v_, in);
   if (b.law.n > 0 && !halt()) {
     // On a curve a lower cruise speed buys more tangential acceleration for the ramps to it (g falls
     // as the speed rises): a few cruise speeds between the fixed split's cap and the curve's own cap
@@ -77,7 +81,7 @@ void Interpolator::replan(const Block& b, const Inputs& in) {
       c.vc = std::sqrt(w_lo + f * (w_hi - w_lo));
       if (!(c.vc < in.vc) || !(c.vc > v_)) continue;
       c.v1_want = std::min(c.v1_want, c.vc);
-      const VelocityRamp r = plan_ramp(dist, v_, c.vc, c.v1_want, c.v1_max, in.acc_scale * ramp_acc_floor(b.law, dist, v_, c));
+      const VelocityRamp r = ramp_for(b, dist, v_, c);
       if (r.duration() < ramp_.duration()) ramp_ = r;
     }
   }

@@ -92,7 +92,7 @@ class Interpolator {
   Inputs inputs(const Block& b) const;
   void replan(const Block& b, const Inputs& in);
   static double ramp_acc(const TangentLaw& law, double dist, double v0, const Inputs& in);
-  static double ramp_acc_floor(const TangentLaw& law, double dist, double v0, const Inputs& in);
+  static VelocityRamp ramp_for(const Block& b, double dist, double v0, const Inputs& in);
   void rest_at_end();
   const Setpoint& step_jerk(double dt);
 

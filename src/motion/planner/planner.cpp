@@ -356,14 +356,18 @@ PlanResult Planner::emit_stage() {
 // rt-safe. A trapezoid block (no jerk limit) runs on its speed-dependent law, capped where the
 // centripetal acceleration alone reaches an axis's limit; a jerk block keeps the fixed split, which
 // the jerk follower's limits assume. a_mm_s2 and v_split_mm_s keep the split for either.
-void Planner::set_law(Block& b, const CurveLaw& c) const {
-  if (std::isinf(b.j_mm_s3) && config_.speed_dependent_tangential && !c.law.full) {
-    b.law = c.law;
-    // Never cruise where no tangential acceleration is left: a hold or a stop must always brake.
-    b.v_cap_mm_s = std::min(c.v_max_mm_s, std::sqrt(b.law.reserve_w(config_.tangential_reserve)));
-  } else {
-    b.law = TangentLaw::constant(b.a_mm_s2);
+template <class MakeLaw>
+void Planner::set_law(Block& b, const MakeLaw& make_law) const {
+  if (std::isinf(b.j_mm_s3) && config_.speed_dependent_tangential) {
+    const CurveLaw c = make_law();  // built only for the blocks that use it
+    if (!c.law.full) {
+      b.law = c.law;
+      // Never cruise where no tangential acceleration is left: a hold or a stop must always brake.
+      b.v_cap_mm_s = std::min(c.v_max_mm_s, std::sqrt(b.law.reserve_w(config_.tangential_reserve)));
+      return;
+    }
   }
+  b.law = TangentLaw::constant(b.a_mm_s2);
 }
 
 // rt-safe. Plans a validated move in: blend with the pending block, commit, hold the new one pending.
@@ -384,7 +388,7 @@ PlanResult Planner::plan(const PathRequest& req, double merge_dev_mm, std::uint3
   b.v_cap_mm_s = sl.v_max_mm_s;
   b.v_split_mm_s = sl.v_max_mm_s;
   b.j_mm_s3 = req.profile == ProfileKind::Trapezoid ? kInf : sl.j_max_mm_s3;
-  set_law(b, segment_law(req.geom, limits_));
+  set_law(b, [&] { return segment_law(req.geom, limits_); });
   b.feed_mm_s = req.rapid ? kInf : req.feed_mm_s;
   const double full_length = b.length;
 
@@ -425,7 +429,7 @@ PlanResult Planner::plan(const PathRequest& req, double merge_dev_mm, std::uint3
           blend.v_cap_mm_s = bl.v_max_mm_s;
           blend.v_split_mm_s = bl.v_max_mm_s;
           blend.j_mm_s3 = std::isinf(a.j_mm_s3) && std::isinf(b.j_mm_s3) ? kInf : bl.j_max_mm_s3;
-          set_law(blend, blend_law(blend.blend, limits_));
+          set_law(blend, [&] { return blend_law(blend.blend, limits_); });
           blend.rapid = a.rapid && b.rapid;
           blend.feed_mm_s = std::min(a.feed_mm_s, b.feed_mm_s);
           blend.tag = a.tag;

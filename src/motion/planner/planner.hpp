@@ -99,7 +99,8 @@ class Planner {
   PlanResult emit_stage();
   void commit(const Block& b);
   void kink(Block& a, Block& b) const;
-  void set_law(Block& b, const CurveLaw& c) const;
+  template <class MakeLaw>
+  void set_law(Block& b, const MakeLaw& make_law) const;
 
   MachineLimits limits_;
   PlannerConfig config_;
