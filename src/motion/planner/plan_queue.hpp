@@ -26,7 +26,8 @@ struct MergeStage {
   std::uint32_t tag_last = 0;                    // the last instruction merged
   double q_mm = 0;                               // largest distance a merged point may lie off the line
   double dev_mm = 0;                             // largest distance one does
-  std::array<Vec, kMaxPoints> points{};          // programmed corners inside the merged line
+  std::array<Vec, kMaxPoints> offsets{};         // programmed corners inside it, minus its start
+  std::array<double, kMaxPoints> offset2{};      // their squared distances from the start
   std::size_t n = 0;
 };
 

@@ -324,23 +324,28 @@ bool Planner::merge(const PathRequest& req) {
   const double len = core::norm(chord);
   if (!(len > kMinLength_mm)) return false;
   const Vec c = chord * (1 / len);
-  // The corner at the stage's end joins the merged points for the check.
-  m.points[m.n] = m.req.geom.end;
-  Vec prev = s;
-  double dev = 0;
+  // The corner at the stage's end joins the merged points for the check. Each point's offset from
+  // S is kept, so a push costs one dot product per point: the distance off the chord is
+  // √(|d|² − (d·c)²), and the pieces move forward along it while d·c grows.
+  m.offsets[m.n] = m.req.geom.end - s;
+  m.offset2[m.n] = core::dot(m.offsets[m.n], m.offsets[m.n]);
+  const double q2 = q * q;
+  double prev = 0, dev2 = 0;
   for (std::size_t k = 0; k <= m.n; ++k) {
-    const Vec d = m.points[k] - s;
-    const double along = core::dot(d, c);
-    dev = std::max(dev, core::norm(d - c * along));
-    if (dev > q) return false;
-    if (!(core::dot(m.points[k] - prev, c) > 0)) return false;
-    prev = m.points[k];
+    const double along = core::dot(m.offsets[k], c);
+    if (!(along > prev)) return false;
+    dev2 = std::max(dev2, m.offset2[k] - along * along);
+    if (dev2 > q2) return false;
+    prev = along;
   }
-  if (!(core::dot(e - prev, c) > 0)) return false;
+  if (!(len > prev)) return false;
   ++m.n;
   m.q_mm = q;
-  m.dev_mm = dev;
-  m.req.geom = make_line(s, e);
+  m.dev_mm = std::sqrt(std::max(0.0, dev2));
+  // The merged line S → e, as make_line builds it (only its end, length and direction change).
+  m.req.geom.end = e;
+  m.req.geom.length = len;
+  m.req.geom.dir = c;
   m.tag_last = req.tag;
   return true;
 }

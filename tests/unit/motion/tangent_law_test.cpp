@@ -59,7 +59,9 @@ TEST(TangentLaw, RootSolvesTheBrakingEquation) {
     EXPECT_LE(lhs, rhs * (1 + 1e-9) + 1e-9 * (1 + w)) << n;
     // Tight: a little above the root the law no longer covers it (unless the cap or x holds it).
     const double w2 = w * (1 + 1e-6) + 1e-6;
-    if (w < l.w_cap * (1 - 1e-9) && l.at(x) > 0) EXPECT_GT(w2 - x, k * l.at(w2)) << n;
+    if (w < l.w_cap * (1 - 1e-9) && l.at(x) > 0) {
+      EXPECT_GT(w2 - x, k * l.at(w2)) << n;
+    }
   }
 }
 
