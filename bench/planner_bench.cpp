@@ -1,7 +1,9 @@
 // Look-ahead planner throughput (segments planned per CPU second) and the cost of one cycle.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include "motion/geometry/polyline_smoothing.hpp"
@@ -78,14 +80,23 @@ static void BM_LookaheadCycle4Axes(benchmark::State& state) {
 }
 BENCHMARK(BM_LookaheadCycle4Axes);
 
+// The jerk guard's ways to its verdict (Arg of the jerk benchmarks): 0 = simulate every brake to
+// rest, 1 = simulate until the rest is π's closed-form tail, 2 = the certificate, simulating where
+// it cannot decide (planner.jerk_guard_simulate = true), 3 = the certificate alone (the default).
+static motion::InterpolatorConfig guard_mode(std::int64_t mode) {
+  motion::InterpolatorConfig ic;
+  ic.guard_closed_form = mode != 0;
+  ic.guard_certificate = mode >= 2;
+  ic.guard_simulate = mode <= 2;
+  return ic;
+}
+
 // Steps the interpolator in jerk mode over `reqs`, pushed round and round (refilled outside the timing).
-static void jerk_cycles(benchmark::State& state, const std::vector<motion::PathRequest>& reqs, bool closed_form) {
+static void jerk_cycles(benchmark::State& state, const std::vector<motion::PathRequest>& reqs) {
   auto lim = xyz();
   for (int i : {0, 1, 2, 6}) lim.axis[static_cast<std::size_t>(i)].j_max_mm_s3 = 10'000;
   motion::Planner planner(lim, 4096);
-  motion::InterpolatorConfig ic;
-  ic.guard_closed_form = closed_form;
-  motion::Interpolator in(planner.queue(), reqs.front().geom.start, ic);
+  motion::Interpolator in(planner.queue(), reqs.front().geom.start, guard_mode(state.range(0)));
   std::size_t k = 0;
   const auto refill = [&] {
     while (!planner.queue().full()) planner.push(reqs[k++ % reqs.size()]);
@@ -101,18 +112,19 @@ static void jerk_cycles(benchmark::State& state, const std::vector<motion::PathR
     }
   }
   state.counters["mean_path_v_mm_s"] = v_sum / static_cast<double>(state.iterations());
+  state.counters["simulations_per_cycle"] =
+      static_cast<double>(in.guard_simulations()) / static_cast<double>(std::max<std::uint64_t>(1, in.jerk_cycles()));
 }
 
 // One jerk-mode interpolation cycle (S-curve path speed with the JerkGuard's verified brake) over a
 // blended CAM-like polyline (0.5 mm chords, 4 axes), jerk 10 000 mm/s³ per axis. The cycles include
 // the ramps at the start, so acceleration, cruise and the brake checks at the window's end all take
-// their share. Arg: 0 = the guard simulates every brake to rest, 1 = it stops where the rest is a
-// closed-form ramp that keeps every limit (the default).
-static void BM_JerkCycle4Axes(benchmark::State& state) { jerk_cycles(state, polyline(0.5), state.range(0) != 0); }
-BENCHMARK(BM_JerkCycle4Axes)->Arg(0)->Arg(1);
+// their share. Arg: the guard mode (guard_mode above).
+static void BM_JerkCycle4Axes(benchmark::State& state) { jerk_cycles(state, polyline(0.5)); }
+BENCHMARK(BM_JerkCycle4Axes)->DenseRange(0, 3);
 
 // The same cycle on the same polyline smoothed as the Channel does by default on a jerk-limited
-// machine (polyline_smoothing.hpp: one C² B-spline lap of Poly pieces), closed-form guard.
+// machine (polyline_smoothing.hpp: one C² B-spline lap of Poly pieces). Arg: the guard mode.
 static void BM_JerkCycleSmoothed4Axes(benchmark::State& state) {
   const auto lines = polyline(0.5);
   std::vector<core::Vec> pts{lines.front().geom.start};
@@ -122,6 +134,6 @@ static void BM_JerkCycleSmoothed4Axes(benchmark::State& state) {
   std::vector<motion::PathRequest> reqs;
   for (const auto& l : out)
     for (const auto& seg : l) reqs.push_back({seg, 100, false, static_cast<std::uint32_t>(reqs.size())});
-  jerk_cycles(state, reqs, true);
+  jerk_cycles(state, reqs);
 }
-BENCHMARK(BM_JerkCycleSmoothed4Axes);
+BENCHMARK(BM_JerkCycleSmoothed4Axes)->DenseRange(0, 3);

@@ -45,6 +45,14 @@ struct InterpolatorConfig {
   // Jerk mode: the guard answers its brake's range queries from a per-cycle index of the window
   // (same answers as walking the blocks; false walks them: tests, benchmarks).
   bool guard_index = true;
+  // Jerk mode: the guard first tries its certificate, the closed-form ramp to rest with the smallest
+  // limits it meets (jerk_guard.hpp), and simulates its brake π only where that cannot decide: with
+  // guard_simulate always (planner.jerk_guard_simulate), else only when the ramp lasts at most
+  // guard_short_brake_cycles (near a stop point: a few cycles of work); otherwise the candidate is
+  // refused. guard_certificate = false always simulates (tests, benchmarks).
+  bool guard_certificate = true;
+  bool guard_simulate = false;
+  int guard_short_brake_cycles = 10;
 };
 
 // True when any present axis has a jerk limit (blocks then carry a finite j_mm_s3: the jerk follower runs).
@@ -79,6 +87,10 @@ class Interpolator {
   void acknowledge_stop() { stopped_ = false; }
   bool stopping() const { return stop_ != StopKind::None; }
   double feed_override() const { return override_; }
+  // Jerk mode: cycles run, and candidate steps whose verdict needed the simulation of π (the rest
+  // were settled by the certificate or refused by the check of the step itself); for benchmarks.
+  std::uint64_t jerk_cycles() const { return jerk_cycles_; }
+  std::uint64_t guard_simulations() const { return guard_simulations_; }
   // At rest on the path because of a hold, an enable drop or a stop in progress.
   bool halted_at_rest() const { return sp_.moving && sp_.path_v == 0 && halt(); }
 
@@ -106,6 +118,10 @@ class Interpolator {
   double v_ = 0;          // path speed carried across block boundaries
   double a_ = 0;          // jerk mode: path acceleration
   double s_ = 0;          // jerk mode: distance into the front block
+  // Jerk mode: the fallback brake from the present state, certified when the state was accepted:
+  // the ramp to rest with these limits, or (0) the guard's π.
+  double cert_a_ = 0, cert_j_ = 0;
+  std::uint64_t jerk_cycles_ = 0, guard_simulations_ = 0;
   Inputs in_;
   double override_ = 1;
   bool hold_ = false, enable_ = true, stopped_ = false;

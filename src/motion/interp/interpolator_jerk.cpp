@@ -65,8 +65,13 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   // acceleration, lowering it, and π itself — the fastest accepted one wins. π is always safe from
   // an accepted state (the check of the previous cycle covered it), so it is also the last resort.
   const JerkGuard guard(ring, n, s_, v_, dt, scale, h, override_, config_.guard_index ? &scratch_ : nullptr);
+  const bool certify = config_.guard_certificate;
+  const double short_s = config_.guard_short_brake_cycles * dt;
   PathStep step = ramp_cycle(now, vt, a_c, j_c, dt);
-  const GuardVerdict first = guard.verify(step, config_.guard_closed_form);
+  const GuardVerdict first = guard.verify(step, config_.guard_closed_form, certify, config_.guard_simulate, short_s);
+  ++jerk_cycles_;
+  guard_simulations_ += first.simulated ? 1 : 0;
+  GuardVerdict taken = first;
   if (first.failed()) {
     std::array<PathStep, 4> cand{};
     std::size_t m = 0;
@@ -91,15 +96,24 @@ const Setpoint& Interpolator::step_jerk(double dt) {
       return l.x.v > r.x.v || (l.x.v == r.x.v && l.x.s > r.x.s);
     };
     std::sort(cand.begin(), cand.begin() + static_cast<std::ptrdiff_t>(m), ahead);
-    step = guard.brake_now(now);
+    // The last resort: one cycle of the fallback brake certified when the present state was accepted.
+    taken = GuardVerdict{};
+    taken.cert_a = cert_a_;
+    taken.cert_j = cert_j_;
+    step = cert_a_ > 0 ? guard.certified_brake(now, cert_a_, cert_j_) : guard.brake_now(now);
     for (std::size_t i = 0; i < m; ++i) {
       if (!ahead(cand[i], step)) break;
-      if (!guard.verify(cand[i], config_.guard_closed_form).failed()) {
+      const GuardVerdict v = guard.verify(cand[i], config_.guard_closed_form, certify, config_.guard_simulate, short_s);
+      guard_simulations_ += v.simulated ? 1 : 0;
+      if (!v.failed()) {
         step = cand[i];
+        taken = v;
         break;
       }
     }
   }
+  cert_a_ = taken.cert_a;
+  cert_j_ = taken.cert_j;
   ProfileState x = step.x;
   if (x.s < 0) x.s = 0;
   v_ = std::max(0.0, x.v);

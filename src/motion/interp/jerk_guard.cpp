@@ -2,6 +2,7 @@
 #include "motion/interp/jerk_guard.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -54,6 +55,66 @@ struct Cycle {
     if (left > 0) st.x.s += v * left;
     left = 0;
     take(st.x);
+  }
+};
+
+// The ramp to rest from x (|x.a| ≤ a) with limits a, j, as ramp_cycle follows it: its phases of
+// constant jerk, the distance to rest and the largest speed on it.
+struct BrakeRamp {
+  std::array<ProfileState, 3> at{};  // state at the start of each phase, s from x
+  std::array<double, 3> jerk{}, dur{};
+  double d_stop = 0;
+  double v_up = 0;
+
+  BrakeRamp(const ProfileState& x, double a, double j) {
+    const Ramp r = plan_ramp(x.v, x.a, 0, a, j);
+    ProfileState y{0, x.v, x.a, 0};
+    v_up = x.v;
+    const double js[3] = {r.dir * r.j, 0, -r.dir * r.j}, ts[3] = {r.t1, r.t2, r.t3};
+    for (int i = 0; i < 3; ++i) {
+      at[i] = y;
+      jerk[i] = js[i];
+      dur[i] = std::max(0.0, ts[i]);
+      if (y.a > 0 && js[i] < 0 && -y.a / js[i] < dur[i]) v_up = std::max(v_up, advance(y, js[i], -y.a / js[i]).v);
+      y = advance(y, js[i], dur[i]);
+      v_up = std::max(v_up, y.v);
+    }
+    d_stop = y.s;
+  }
+
+  // Distance from x where the speed, past its peak, has fallen to `cap` (0 when it never exceeds it):
+  // beyond it the speed stays at or below cap.
+  double reach_speed(double cap) const {
+    if (v_up <= cap) return 0;
+    for (int i = 0; i < 3; ++i) {
+      const ProfileState& y = at[i];
+      const double j = jerk[i], t_end = dur[i];
+      if (!(t_end > 0)) continue;
+      // The speed falls from t0 on in this phase (a ≤ 0 there); before t0 it rises.
+      double t0 = 0;
+      if (y.a > 0) {
+        if (!(j < 0) || -y.a / j >= t_end) continue;
+        t0 = -y.a / j;
+      }
+      if (advance(y, j, t_end).v > cap) continue;
+      const ProfileState y0 = advance(y, j, t0);
+      if (y0.v <= cap) return y0.s;
+      // v(t) = y0.v + y0.a·t + j·t²/2 = cap on (0, t_end − t0], v falling there: its one root.
+      const double c = y0.v - cap, b = y0.a;
+      double t;
+      if (j == 0) {
+        t = -c / b;
+      } else {
+        const double disc = std::sqrt(std::max(0.0, b * b - 2 * j * c));
+        const double q = -0.5 * (b + (b >= 0 ? disc : -disc));  // roots q / (j/2) and c / q
+        const double r1 = q / (0.5 * j), r2 = q != 0 ? c / q : r1;
+        const double lo = std::min(r1, r2), hi = std::max(r1, r2);
+        t = lo >= 0 ? lo : hi;
+      }
+      t = std::clamp(t, 0.0, t_end - t0);
+      return advance(y0, j, t).s;
+    }
+    return d_stop;
   }
 };
 }  // namespace
@@ -312,11 +373,126 @@ bool JerkGuard::tail_safe(const ProfileState& x, double p, const Cursor& c) cons
   return start > entered + kTouch_mm;  // the window's end (a point to stop at) lies beyond the brake
 }
 
+
+// rt-safe. The certificate (see the header): true when the ramp to rest from x (at p, in block c.k)
+// with the smallest acceleration A and jerk J of the blocks it enters keeps every limit of every
+// block up to where it is at rest: |a| ≤ A and |jerk| ≤ J all along (A, J are those minima), no
+// reversal, its speed under every cap and soft cap from where it enters a block (the speed only
+// falls past its peak: where it has fallen to a cap, it stays under it), at every junction no faster
+// than the junction allows, and no exact stop or window end before it is at rest. Lowering A or J
+// lengthens the ramp, so the walk starts again with the new minima (a few times at most).
+// rt-safe. The certificate (see the header) for the rest from x (at p, in block c.k):
+//  - its limits A, J: the minima over the blocks the ramp to rest enters (lowering them lengthens the
+//    ramp, so the walk goes on from where it is with the new distance until it covers the ramp; an
+//    exact stop or the window's end ends it: the ramp must not get there);
+//  - that ramp, known in closed form, against every block it enters, in order of distance: no stop
+//    before it is at rest, at every junction no faster than the junction allows, and under every
+//    cap and soft cap of a block from where it enters it (past its peak the speed only falls: where
+//    it has fallen to a cap it stays under it). |a| ≤ A and |jerk| ≤ J hold all along by construction.
+// Safe: v.cert_a, v.cert_j are set. Fails: v holds the first broken limit as the simulation would
+// report it, given only when π is that same ramp (uniform: every block π's brakes would scan has
+// exactly A and J, so its anticipation and jerk never differ). Otherwise Unknown: simulate π.
+JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Cursor& c, GuardVerdict& v) const {
+  const ProfileState x{0, x0.v, x0.a, 0};
+  v.brake_s = kInf;
+  if (!(x.v >= 0)) return Cert::Unknown;
+  const auto reach = [](double d) { return d * (1 + kRel) + kAbs + kTouch_mm; };  // d with rounding
+  const auto clear = [](double d_need, double d_have) { return d_need * (1 + kRel) + kAbs <= d_have; };
+  double a = acc(c.k), j = jerk(c.k);
+  const auto distance = [&] {
+    if (!(j > 0) || !std::isfinite(j) || !(a > 0) || !(std::abs(x.a) <= a)) return -1.0;
+    // Braking too hard already: it would reverse (by more than check() lets pass; a position-mode
+    // stop ends exactly on v = a²/2J, up to rounding).
+    if (x.a < 0 && x.v < x.a * x.a / (2 * j) - kAbs) return -1.0;
+    return ramp_end(x, plan_ramp(x.v, x.a, 0, a, j)).s;
+  };
+  double d = distance();
+  if (!(d >= 0)) {  // no ramp: about how long a brake would last, for verify()'s choice to simulate
+    v.brake_s = std::abs(x.a) / j + 2 * std::sqrt(std::max(0.0, x.v) / j) + std::max(0.0, x.v) / a;
+    return Cert::Unknown;
+  }
+  // π's brakes plan their jerk with every block up to their reach plus v_up·(|a|/J + 2·dt)
+  // (brake()), |a| ≤ A: the certificate takes its jerk over the same range, so it accepts no more
+  // than π would (greedy steps that π refuses end up slower). When all of those blocks have
+  // exactly A and J (uniform), π is this same ramp.
+  const auto scan = [&] { return (x.a > 0 ? x.v + x.a * x.a / (2 * j) : x.v) * (a / j + 2 * dt_) + kTouch_mm; };
+  bool uniform = true;
+  double stop_at = kInf;  // from p: the first exact stop or the window's end the walk meets
+  // Two cursors over the blocks after c.k: `ks` scans (jerk, stops, uniformity) up to the ramp's
+  // reach plus π's scan; `ke` follows it over the blocks the ramp enters (acceleration). Each lower
+  // limit lengthens the ramp, and both cursors go on from where they are.
+  const double first = c.start - p + ring_.at(c.k).length;  // start of block c.k + 1, from p
+  std::size_t ks = c.k + 1, ke = c.k + 1;
+  double ss = first, se = first;
+  const auto enter = [&] {
+    for (; ke < ks && se <= reach(d); se += ring_.at(ke).length, ++ke) {
+      if (acc(ke) < a) {
+        a = acc(ke);
+        d = distance();
+        if (!(d >= 0)) return false;
+      }
+    }
+    return true;
+  };
+  for (;; ss += ring_.at(ks).length, ++ks) {
+    if (!enter()) return Cert::Unknown;
+    if (ss > reach(d) + scan()) break;
+    if (ks >= n_ || ring_.at(ks).v2_junction <= 0) {
+      stop_at = ss;
+      break;
+    }
+    if (acc(ks) != a || jerk(ks) != j) uniform = false;
+    if (jerk(ks) < j) {
+      j = jerk(ks);
+      d = distance();
+      if (!(d >= 0)) return Cert::Unknown;
+    }
+  }
+  if (!enter()) return Cert::Unknown;
+  const BrakeRamp r(x, a, j);
+  v.brake_s = r.dur[0] + r.dur[1] + r.dur[2];
+  const auto broken = [&](bool hard, double at, double u, bool stop) {
+    fail(v, hard, p + at, u, stop);  // the simulation's answer when uniform, else a hint
+    return uniform ? Cert::Fails : Cert::Unknown;
+  };
+  double start = c.start - p;
+  for (std::size_t k = c.k; start <= reach(r.d_stop); ++k) {
+    if (k > c.k && start >= stop_at) {  // an exact stop or the window's end: reached at rest, never crossed
+      if (r.d_stop > start + kAbs) return broken(true, start, 0, true);
+      break;
+    }
+    const Block& b = ring_.at(k);
+    if (k > c.k) {
+      const double u = std::sqrt(b.v2_junction);
+      if (!clear(r.reach_speed(u), start)) return broken(true, start, u, false);
+    }
+    const double here = std::max(start, 0.0);
+    const auto over_cap = [&](double cap) { return k == c.k ? r.v_up > cap : !clear(r.reach_speed(cap), start); };
+    if (over_cap(b.v_split_mm_s)) return broken(true, here, b.v_split_mm_s, false);
+    if (over_cap(soft(k))) return broken(false, here, soft(k), false);
+    start += b.length;
+  }
+  v.cert_a = a;
+  v.cert_j = j;
+  return Cert::Safe;
+}
+
 // rt-safe
-GuardVerdict JerkGuard::verify(const PathStep& step, bool closed_form) const {
+GuardVerdict JerkGuard::verify(const PathStep& step, bool closed_form, bool certify, bool simulate,
+                                double simulate_up_to_s) const {
   GuardVerdict v;
   Cursor c{0, -s_front_};
   if (!check(c, 0, v_now_, step, v) || v.failed()) return v;
+  if (certify) {
+    const Cert r = this->certify(step.x, step.x.s, c, v);
+    if (r != Cert::Unknown) return v;
+    if (!simulate && !(v.brake_s <= simulate_up_to_s)) {  // refused, with the hint of where the ramp breaks a limit
+      if (!v.failed()) fail(v, true, 0, 0, false);
+      return v;
+    }
+    v = GuardVerdict{};
+  }
+  v.simulated = true;
   double p = step.x.s;
   ProfileState x = step.x;
   std::size_t tried = n_;  // the block where the closed-form tail was last tried

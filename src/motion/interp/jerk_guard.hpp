@@ -14,6 +14,15 @@
 // Shortcut (same verdict, fewer cycles): where every block the rest of π can reach or scan has the
 // acceleration and jerk limit π brakes with now, π is one closed-form ramp to rest; when that ramp
 // keeps every cap, junction and stop of those blocks, the cycle-by-cycle simulation stops there.
+//
+// Certificate (no simulation at all): before simulating π, verify() tries the ramp to rest with the
+// smallest acceleration A and jerk J of every block it enters. That ramp is known in closed form, so
+// whether it keeps every limit is a walk over those blocks (its speed where it passes each cap and
+// junction, from its phases). When it does, the state is accepted with that ramp as its fallback
+// brake instead of π: the interpolator remembers (A, J), and in a cycle where nothing better is
+// accepted it takes one cycle of that ramp, whose rest is the same ramp (the remainder of a
+// time-optimal ramp is the time-optimal ramp from where it has got to). Either way an accepted state
+// always has a checked next step.
 #pragma once
 
 #include <cstddef>
@@ -49,6 +58,11 @@ struct GuardVerdict {
   bool stop_binds = false;  // the first failure is a point to stop at (exact stop, window end)
   double fail_at_mm = 0;    // distance from now of the first failing limit
   double fail_u_mm_s = 0;   // its speed limit
+  // Accepted by the certificate: the fallback brake from the step's end is the ramp to rest with
+  // these limits (0: accepted by simulating π, which is the fallback).
+  double cert_a = 0, cert_j = 0;
+  bool simulated = false;  // the verdict needed the simulation of π
+  double brake_s = 0;      // the certificate's ramp to rest: its duration (∞ when it has none)
   bool failed() const { return !hard_ok || !soft_ok; }
 };
 
@@ -73,11 +87,17 @@ class JerkGuard {
   JerkGuard(const core::Ring<Block>& ring, std::size_t n, double s_front, double v_now, double dt, double scale,
             bool halt, double feed_override, GuardScratch* scratch = nullptr);
 
-  // rt-safe. Checks the step from now, then π from where it ends, cycle by cycle until rest (or, with
-  // `closed_form`, until the rest of π is one ramp that provably keeps every limit: same verdict).
-  GuardVerdict verify(const PathStep& step, bool closed_form = true) const;
+  // rt-safe. Checks the step from now, then (with `certify`) the certificate from where it ends, and
+  // failing that π, cycle by cycle until rest (or, with `closed_form`, until the rest of π is one
+  // ramp that provably keeps every limit: same verdict).
+  // `simulate_up_to_s`: without `simulate`, π is still simulated where the certificate cannot
+  // decide and its ramp lasts no longer than this (a short brake: a few cycles of work).
+  GuardVerdict verify(const PathStep& step, bool closed_form = true, bool certify = false, bool simulate = true,
+                      double simulate_up_to_s = 0) const;
   // rt-safe. One cycle of π from the present state.
   PathStep brake_now(const ProfileState& now) const { return brake({now.s, now.v, now.a, 0}, 0, Cursor{0, -s_front_}); }
+  // rt-safe. One cycle of the certified ramp to rest with limits a, j from the present state.
+  PathStep certified_brake(const ProfileState& now, double a, double j) const { return ramp_cycle(now, 0, a, j, dt_); }
   // Limits (scaled) of the blocks from the front up to distance `to_mm` from now.
   void limits_until(double to_mm, double& a_min, double& j_min) const;
 
@@ -91,6 +111,8 @@ class JerkGuard {
   };
   PathStep brake(const ProfileState& x, double p, const Cursor& c) const;
   bool tail_safe(const ProfileState& x, double p, const Cursor& c) const;
+  enum class Cert { Safe, Fails, Unknown };
+  Cert certify(const ProfileState& x, double p, const Cursor& c, GuardVerdict& v) const;
   bool check(Cursor& c, double p0, double v0, const PathStep& st, GuardVerdict& verdict) const;
   double soft(std::size_t k) const;
   bool fail(GuardVerdict& v, bool hard, double at, double u, bool stop) const;
