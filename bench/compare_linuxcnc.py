@@ -2,7 +2,7 @@
 # softmc's planner against LinuxCNC 2.9's on the same programs and the same simulated machine.
 #
 #   bench/compare_linuxcnc.py [PROGRAM.ngc ...] [--build DIR] [--vel 100] [--acc 1000] [--jerk 10000]
-#                             [--tol 0.05] [--work DIR] [--reuse]
+#                             [--tol 0.05] [--work DIR] [--reuse] [--softmc-set KEY=VALUE ...]
 #
 # For each program: one LinuxCNC run (shared/tools/linuxcnc/lcnc_trace.sh beside the checkout, or
 # $LCNC_TRACE; a headless
@@ -204,6 +204,8 @@ def main():
     ap.add_argument("--work", default="/tmp/compare_linuxcnc")
     ap.add_argument("--reuse", action="store_true", help="reuse LinuxCNC traces already in --work")
     ap.add_argument("--no-lcnc", action="store_true", help="softmc only")
+    ap.add_argument("--softmc-set", action="append", default=[], metavar="KEY=VALUE",
+                    help="one more --set for both softmc runs (e.g. planner.jerk_guard_simulate=true)")
     args = ap.parse_args()
     progs = args.programs or [os.path.join(ROOT, "examples/gcode/bench", f)
                               for f in ("surfacing.ngc", "pocket.ngc", "engraving.ngc", "plasma.ngc")]
@@ -222,7 +224,8 @@ def main():
             runs.append(("lcnc", t, pos, csv))
         for tag, jerk in (("trap", 0), ("jerk", args.jerk)):
             csv = os.path.join(args.work, f"{name}.softmc_{tag}.csv")
-            t, pos = run_softmc(exe, prog, csv, softmc_sets(args.vel, args.acc, jerk, args.tol, args.lookahead))
+            t, pos = run_softmc(exe, prog, csv, softmc_sets(args.vel, args.acc, jerk, args.tol, args.lookahead) +
+                                  [x for kv in args.softmc_set for x in ("--set", kv)])
             runs.append((tag, t, pos, csv))
         for tag, t, pos, csv in runs:
             nv, na, nj, vmax, amax = violations(pos, dt, args.vel, args.acc, quantum(csv),

@@ -25,6 +25,7 @@ motion::InterpolatorConfig interpolator_config(const machine::MachineConfig& cfg
   motion::InterpolatorConfig ic;
   ic.max_feed_override = cfg.planner.max_feed_override;
   ic.max_horizon_blocks = static_cast<int>(cfg.planner_window());
+  ic.guard_simulate = cfg.planner.jerk_guard_simulate;
   return ic;
 }
 }  // namespace

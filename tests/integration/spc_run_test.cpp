@@ -89,8 +89,11 @@ TEST(Spc200, S8_StartStopRunFromStimulusFileReachesDecodedPosition) {
   const double t_mc_high = first_time(tr, t_mc_low, [](auto& r) { return bit(r, sig::kMcA); });
   ASSERT_GT(t_mc_high, t_mc_low);
   const double x_at_mc = first_time(tr, t_mc_high, [](auto&) { return true; });
-  for (const auto& r : tr.rows)
-    if (r.t_s == x_at_mc) EXPECT_DOUBLE_EQ(r.cmd[0], 123.4);
+  for (const auto& r : tr.rows) {
+    if (r.t_s == x_at_mc) {
+      EXPECT_DOUBLE_EQ(r.cmd[0], 123.4);
+    }
+  }
   // The drive followed: its measured position is within one encoder count of the target at the end.
   EXPECT_NEAR(tr.rows.back().act[0], 123.4, 100.0 / 4096 + 1e-9);
   EXPECT_TRUE(bit(tr.rows.back(), sig::kReady));
@@ -234,7 +237,9 @@ TEST(Spc200, S5_RegistersSurviveARestartThroughTheSqliteFile) {
     rc.stimulus = default_stimulus(rc.controller);
     const auto res = run_spc(store, cfg, rc, db);
     EXPECT_TRUE(res.ok);
-    if (prog == 2) EXPECT_DOUBLE_EQ(res.final_mm[0], 12.34);
+    if (prog == 2) {
+      EXPECT_DOUBLE_EQ(res.final_mm[0], 12.34);
+    }
   }
 }
 
