@@ -131,6 +131,14 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   for (int m = 0; m < config_.max_blocks_per_cycle && !ring.empty(); ++m) {
     const Block& b = ring.front();
     if (s_ < b.length - 1e-12) break;
+    // A point to stop at (an exact stop, the end of what is planned) is passed only at rest: a brake
+    // whose last jerk phase ends a few µs into the next cycle reaches it with v ≈ 0 but |a| > 0, and
+    // passing then would turn that acceleration with the path's direction (an axis acceleration
+    // step). The next cycle ends the brake on the spot and the rest test above passes the block.
+    if ((ring.size() < 2 || ring.at(1).v2_junction <= 0) && (v_ > 1e-9 || std::abs(a_) > 1e-6)) {
+      s_ = b.length;
+      break;
+    }
     s_ = std::max(0.0, s_ - b.length);
     sp_.pos = b.end();
     sp_.tag = b.tag;

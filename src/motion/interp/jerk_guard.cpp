@@ -58,35 +58,76 @@ struct Cycle {
   }
 };
 
-// The ramp to rest from x (|x.a| ≤ a) with limits a, j, as ramp_cycle follows it: its phases of
-// constant jerk, the distance to rest and the largest speed on it.
+// The ramp to rest from x with limits a, j, as ramp_cycle follows it: |x.a| first brought within a
+// at jerk j when it is beyond (phase 0), then plan_ramp's three phases; the distance to rest, the
+// largest speed on it, and the largest |a| from each phase on.
 struct BrakeRamp {
-  std::array<ProfileState, 3> at{};  // state at the start of each phase, s from x
-  std::array<double, 3> jerk{}, dur{};
+  static constexpr int kPhases = 4;
+  std::array<ProfileState, kPhases> at{};  // state at the start of each phase, s from x
+  std::array<double, kPhases> jerk{}, dur{};
+  std::array<double, kPhases + 1> a_from{};  // largest |a| from the start of phase i to rest
   double d_stop = 0;
   double v_up = 0;
 
   BrakeRamp(const ProfileState& x, double a, double j) {
-    const Ramp r = plan_ramp(x.v, x.a, 0, a, j);
     ProfileState y{0, x.v, x.a, 0};
     v_up = x.v;
-    const double js[3] = {r.dir * r.j, 0, -r.dir * r.j}, ts[3] = {r.t1, r.t2, r.t3};
-    for (int i = 0; i < 3; ++i) {
+    double js[kPhases] = {0, 0, 0, 0}, ts[kPhases] = {0, 0, 0, 0};
+    ProfileState z = y;
+    if (std::abs(x.a) > a) {
+      js[0] = x.a > 0 ? -j : j;
+      ts[0] = (std::abs(x.a) - a) / j;
+      z = advance(y, js[0], ts[0]);
+      z.a = std::clamp(z.a, -a, a);
+    }
+    const Ramp r = plan_ramp(z.v, z.a, 0, a, j);
+    js[1] = r.dir * r.j;
+    js[2] = 0;
+    js[3] = -r.dir * r.j;
+    ts[1] = r.t1;
+    ts[2] = r.t2;
+    ts[3] = r.t3;
+    for (int i = 0; i < kPhases; ++i) {
       at[i] = y;
       jerk[i] = js[i];
       dur[i] = std::max(0.0, ts[i]);
       if (y.a > 0 && js[i] < 0 && -y.a / js[i] < dur[i]) v_up = std::max(v_up, advance(y, js[i], -y.a / js[i]).v);
       y = advance(y, js[i], dur[i]);
+      if (i == 0) y.a = z.a;  // as ramp_cycle clamps it
       v_up = std::max(v_up, y.v);
     }
     d_stop = y.s;
+    a_from[kPhases] = 0;
+    for (int i = kPhases - 1; i >= 0; --i) {
+      const double a_end = i + 1 < kPhases ? at[i + 1].a : 0.0;
+      a_from[i] = std::max({a_from[i + 1], dur[i] > 0 ? std::abs(at[i].a) : 0.0, std::abs(a_end)});
+    }
   }
 
-  // Distance from x where the speed, past its peak, has fallen to `cap` (0 when it never exceeds it):
+  // The largest |a| on the ramp from distance d on (|a| is linear in time within a phase: the
+  // larger of its value at d and everything after).
+  double a_after(double d) const {
+    if (d <= 0) return a_from[0];
+    for (int i = 0; i < kPhases; ++i) {
+      if (!(dur[i] > 0)) continue;
+      const ProfileState end = advance(at[i], jerk[i], dur[i]);
+      if (end.s < d) continue;
+      double lo = 0, hi = dur[i];  // s(t) = d: s rises with t (v ≥ 0 on a brake)
+      for (int it = 0; it < 60 && hi - lo > 1e-15; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        (advance(at[i], jerk[i], mid).s < d ? lo : hi) = mid;
+      }
+      const double a_d = std::abs(advance(at[i], jerk[i], lo).a);  // lo: just before d
+      return std::max({a_d, std::abs(i + 1 < kPhases ? at[i + 1].a : 0.0), a_from[i + 1]});
+    }
+    return 0;
+  }
+
+// Distance from x where the speed, past its peak, has fallen to `cap` (0 when it never exceeds it):
   // beyond it the speed stays at or below cap.
   double reach_speed(double cap) const {
     if (v_up <= cap) return 0;
-    for (int i = 0; i < 3; ++i) {
+    for (int i = 0; i < kPhases; ++i) {
       const ProfileState& y = at[i];
       const double j = jerk[i], t_end = dur[i];
       if (!(t_end > 0)) continue;
@@ -374,24 +415,22 @@ bool JerkGuard::tail_safe(const ProfileState& x, double p, const Cursor& c) cons
 }
 
 
-// rt-safe. The certificate (see the header): true when the ramp to rest from x (at p, in block c.k)
-// with the smallest acceleration A and jerk J of the blocks it enters keeps every limit of every
-// block up to where it is at rest: |a| ≤ A and |jerk| ≤ J all along (A, J are those minima), no
-// reversal, its speed under every cap and soft cap from where it enters a block (the speed only
-// falls past its peak: where it has fallen to a cap, it stays under it), at every junction no faster
-// than the junction allows, and no exact stop or window end before it is at rest. Lowering A or J
-// lengthens the ramp, so the walk starts again with the new minima (a few times at most).
 // rt-safe. The certificate (see the header) for the rest from x (at p, in block c.k):
-//  - its limits A, J: the minima over the blocks the ramp to rest enters (lowering them lengthens the
-//    ramp, so the walk goes on from where it is with the new distance until it covers the ramp; an
-//    exact stop or the window's end ends it: the ramp must not get there);
-//  - that ramp, known in closed form, against every block it enters, in order of distance: no stop
-//    before it is at rest, at every junction no faster than the junction allows, and under every
-//    cap and soft cap of a block from where it enters it (past its peak the speed only falls: where
-//    it has fallen to a cap it stays under it). |a| ≤ A and |jerk| ≤ J hold all along by construction.
+//  - its limits A, J: A the least acceleration of the blocks the ramp to rest enters, J the least
+//    jerk of those and of the blocks π's scans would look at beyond (so that it accepts no more than
+//    π would: greedy steps π refuses end up slower). Lowering them lengthens the ramp, so the walk
+//    goes on from where it is with the new distance until it covers the ramp; an exact stop or the
+//    window's end ends it (the ramp may reach it at rest, never cross it);
+//  - |x.a| may be above A: the ramp first brings it down at J (as ramp_cycle does), and a block
+//    entered meanwhile must allow the |a| from where it is entered on;
+//  - that ramp, known in closed form, against every block it enters, in order of distance: at every
+//    junction no faster than the junction allows, and under every cap and soft cap of a block from
+//    where it enters it (past its peak the speed only falls: where it has fallen to a cap it stays
+//    under it); no reversal. |jerk| ≤ J all along by construction.
 // Safe: v.cert_a, v.cert_j are set. Fails: v holds the first broken limit as the simulation would
 // report it, given only when π is that same ramp (uniform: every block π's brakes would scan has
-// exactly A and J, so its anticipation and jerk never differ). Otherwise Unknown: simulate π.
+// the limits of the block the ramp starts in, so its anticipation and jerk never differ). Otherwise
+// Unknown (v then holds the first broken limit as a hint, and v.brake_s the ramp's duration).
 JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Cursor& c, GuardVerdict& v) const {
   const ProfileState x{0, x0.v, x0.a, 0};
   v.brake_s = kInf;
@@ -400,11 +439,11 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   const auto clear = [](double d_need, double d_have) { return d_need * (1 + kRel) + kAbs <= d_have; };
   double a = acc(c.k), j = jerk(c.k);
   const auto distance = [&] {
-    if (!(j > 0) || !std::isfinite(j) || !(a > 0) || !(std::abs(x.a) <= a)) return -1.0;
+    if (!(j > 0) || !std::isfinite(j) || !(a > 0)) return -1.0;
     // Braking too hard already: it would reverse (by more than check() lets pass; a position-mode
     // stop ends exactly on v = a²/2J, up to rounding).
     if (x.a < 0 && x.v < x.a * x.a / (2 * j) - kAbs) return -1.0;
-    return ramp_end(x, plan_ramp(x.v, x.a, 0, a, j)).s;
+    return BrakeRamp(x, a, j).d_stop;  // |x.a| above a: first brought down to it at j
   };
   double d = distance();
   if (!(d >= 0)) {  // no ramp: about how long a brake would last, for verify()'s choice to simulate
@@ -450,7 +489,7 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   }
   if (!enter()) return Cert::Unknown;
   const BrakeRamp r(x, a, j);
-  v.brake_s = r.dur[0] + r.dur[1] + r.dur[2];
+  v.brake_s = r.dur[0] + r.dur[1] + r.dur[2] + r.dur[3];
   const auto broken = [&](bool hard, double at, double u, bool stop) {
     fail(v, hard, p + at, u, stop);  // the simulation's answer when uniform, else a hint
     return uniform ? Cert::Fails : Cert::Unknown;
@@ -463,6 +502,9 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
     }
     const Block& b = ring_.at(k);
     if (k > c.k) {
+      // |x.a| above A comes down at J first: a block entered meanwhile must allow the |a| from
+      // where it is entered on (A itself it allows: A is the least of the blocks entered).
+      if (acc(k) < r.a_from[0] && acc(k) < r.a_after(start * (1 - kRel) - kAbs)) return Cert::Unknown;
       const double u = std::sqrt(b.v2_junction);
       if (!clear(r.reach_speed(u), start)) return broken(true, start, u, false);
     }
