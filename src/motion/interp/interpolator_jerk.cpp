@@ -59,11 +59,12 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   j_now *= scale;
   const ProfileState now{0, v_, a_, 0};
 
-  // Candidates for this cycle, each taken only when the fallback brake π from where it ends still
-  // meets every limit ahead (JerkGuard): first the ramp towards the cruise speed; when that is
-  // refused, a position-mode stop on the point it missed, a ramp to the speed it missed, holding the
-  // acceleration, lowering it, and π itself — the fastest accepted one wins. π is always safe from
-  // an accepted state (the check of the previous cycle covered it), so it is also the last resort.
+  // Candidates for this cycle, each taken only when a fallback brake from where it ends still meets
+  // every limit ahead (JerkGuard: its certificate ramp, or π simulated): first the ramp towards the
+  // cruise speed; when that is refused, a position-mode stop on the point it missed, a ramp to the
+  // speed it missed, holding the acceleration, lowering it — the fastest accepted one wins. The
+  // fallback certified when the present state was accepted is always safe from here (its rest is
+  // what was checked), so one cycle of it is the last resort.
   const JerkGuard guard(ring, n, s_, v_, dt, scale, h, override_, config_.guard_index ? &scratch_ : nullptr);
   const bool certify = config_.guard_certificate;
   const double short_s = config_.guard_short_brake_cycles * dt;
