@@ -504,7 +504,10 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
     if (k > c.k) {
       // |x.a| above A comes down at J first: a block entered meanwhile must allow the |a| from
       // where it is entered on (A itself it allows: A is the least of the blocks entered).
-      if (acc(k) < r.a_from[0] && acc(k) < r.a_after(start * (1 - kRel) - kAbs)) return Cert::Unknown;
+      // (Only while phase 0 lasts: after it |a| ≤ A.)
+      if (r.dur[0] > 0 && start <= reach(r.at[1].s) && acc(k) < r.a_from[0] &&
+          acc(k) < r.a_after(start * (1 - kRel) - kAbs))
+        return Cert::Unknown;
       const double u = std::sqrt(b.v2_junction);
       if (!clear(r.reach_speed(u), start)) return broken(true, start, u, false);
     }
