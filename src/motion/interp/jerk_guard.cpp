@@ -463,19 +463,32 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   const double first = c.start - p + ring_.at(c.k).length;  // start of block c.k + 1, from p
   std::size_t ks = c.k + 1, ke = c.k + 1;
   double ss = first, se = first;
+  // A lowered limit only lengthens the ramp, so its distance is brought up to date only where the
+  // walk would otherwise stop (`within`): one ramp per extension of the walk, not one per block.
+  bool dirty = false, bad = false;
+  const auto within = [&](double at, double extra) {
+    if (at <= reach(d) + extra) return true;
+    if (!dirty) return false;
+    dirty = false;
+    d = distance();
+    if (!(d >= 0)) {
+      bad = true;
+      return false;
+    }
+    return at <= reach(d) + extra;
+  };
   const auto enter = [&] {
-    for (; ke < ks && se <= reach(d); se += ring_.at(ke).length, ++ke) {
+    for (; ke < ks && within(se, 0); se += ring_.at(ke).length, ++ke) {
       if (acc(ke) < a) {
         a = acc(ke);
-        d = distance();
-        if (!(d >= 0)) return false;
+        dirty = true;
       }
     }
-    return true;
   };
   for (;; ss += ring_.at(ks).length, ++ks) {
-    if (!enter()) return Cert::Unknown;
-    if (ss > reach(d) + scan()) break;
+    enter();
+    if (bad) return Cert::Unknown;
+    if (!within(ss, scan())) break;
     if (ks >= n_ || ring_.at(ks).v2_junction <= 0) {
       stop_at = ss;
       break;
@@ -483,11 +496,13 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
     if (acc(ks) != a || jerk(ks) != j) uniform = false;
     if (jerk(ks) < j) {
       j = jerk(ks);
-      d = distance();
-      if (!(d >= 0)) return Cert::Unknown;
+      dirty = true;
     }
   }
-  if (!enter()) return Cert::Unknown;
+  if (bad) return Cert::Unknown;
+  enter();
+  if (bad) return Cert::Unknown;
+  if (dirty && !((d = distance()) >= 0)) return Cert::Unknown;
   const BrakeRamp r(x, a, j);
   v.brake_s = r.dur[0] + r.dur[1] + r.dur[2] + r.dur[3];
   const auto broken = [&](bool hard, double at, double u, bool stop) {
