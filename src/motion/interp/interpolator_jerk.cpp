@@ -66,10 +66,13 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   // fallback certified when the present state was accepted is always safe from here (its rest is
   // what was checked), so one cycle of it is the last resort.
   const JerkGuard guard(ring, n, s_, v_, dt, scale, h, override_, config_.guard_index ? &scratch_ : nullptr);
-  const bool certify = config_.guard_certificate;
-  const double short_s = config_.guard_short_brake_cycles * dt;
+  GuardMode mode;
+  mode.closed_form = config_.guard_closed_form;
+  mode.certify = config_.guard_certificate;
+  mode.simulate = config_.guard_simulate;
+  mode.simulate_up_to_s = config_.guard_short_brake_cycles * dt;
   PathStep step = ramp_cycle(now, vt, a_c, j_c, dt);
-  const GuardVerdict first = guard.verify(step, config_.guard_closed_form, certify, config_.guard_simulate, short_s);
+  const GuardVerdict first = guard.verify(step, mode);
   ++jerk_cycles_;
   guard_simulations_ += first.simulated ? 1 : 0;
   GuardVerdict taken = first;
@@ -104,7 +107,7 @@ const Setpoint& Interpolator::step_jerk(double dt) {
     step = cert_a_ > 0 ? guard.certified_brake(now, cert_a_, cert_j_) : guard.brake_now(now);
     for (std::size_t i = 0; i < m; ++i) {
       if (!ahead(cand[i], step)) break;
-      const GuardVerdict v = guard.verify(cand[i], config_.guard_closed_form, certify, config_.guard_simulate, short_s);
+      const GuardVerdict v = guard.verify(cand[i], mode);
       guard_simulations_ += v.simulated ? 1 : 0;
       if (!v.failed()) {
         step = cand[i];

@@ -538,15 +538,14 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
 }
 
 // rt-safe
-GuardVerdict JerkGuard::verify(const PathStep& step, bool closed_form, bool certify, bool simulate,
-                                double simulate_up_to_s) const {
+GuardVerdict JerkGuard::verify(const PathStep& step, const GuardMode& mode) const {
   GuardVerdict v;
   Cursor c{0, -s_front_};
   if (!check(c, 0, v_now_, step, v) || v.failed()) return v;
-  if (certify) {
-    const Cert r = this->certify(step.x, step.x.s, c, v);
+  if (mode.certify) {
+    const Cert r = certify(step.x, step.x.s, c, v);
     if (r != Cert::Unknown) return v;
-    if (!simulate && !(v.brake_s <= simulate_up_to_s)) {  // refused, with the hint of where the ramp breaks a limit
+    if (!mode.simulate && !(v.brake_s <= mode.simulate_up_to_s)) {  // refused, with the hint of where the ramp breaks a limit
       if (!v.failed()) fail(v, true, 0, 0, false);
       return v;
     }
@@ -558,7 +557,7 @@ GuardVerdict JerkGuard::verify(const PathStep& step, bool closed_form, bool cert
   std::size_t tried = n_;  // the block where the closed-form tail was last tried
   for (int i = 0; i < kMaxBrakeCycles; ++i) {
     if (std::abs(x.v) <= 1e-12 && std::abs(x.a) <= 1e-9) return v;  // at rest: it may stay
-    if (closed_form && c.k != tried) {  // its conditions change only with the blocks ahead
+    if (mode.closed_form && c.k != tried) {  // its conditions change only with the blocks ahead
       tried = c.k;
       if (tail_safe(x, p, c)) return v;
     }

@@ -79,6 +79,14 @@ struct GuardScratch {
   std::vector<std::size_t> stops;
 };
 
+// How JerkGuard::verify reaches its verdict (InterpolatorConfig's guard_* keys).
+struct GuardMode {
+  bool closed_form = true;      // the simulation of π ends where its rest is one closed-form ramp
+  bool certify = false;         // the certificate first
+  bool simulate = true;         // where the certificate cannot decide: simulate π (else refuse) ...
+  double simulate_up_to_s = 0;  // ... or only when the certificate's ramp lasts at most this
+};
+
 class JerkGuard {
  public:
   // `n` blocks of `ring` from the front (the rest is beyond the horizon: its start is a stop);
@@ -87,13 +95,10 @@ class JerkGuard {
   JerkGuard(const core::Ring<Block>& ring, std::size_t n, double s_front, double v_now, double dt, double scale,
             bool halt, double feed_override, GuardScratch* scratch = nullptr);
 
-  // rt-safe. Checks the step from now, then (with `certify`) the certificate from where it ends, and
-  // failing that π, cycle by cycle until rest (or, with `closed_form`, until the rest of π is one
-  // ramp that provably keeps every limit: same verdict).
-  // `simulate_up_to_s`: without `simulate`, π is still simulated where the certificate cannot
-  // decide and its ramp lasts no longer than this (a short brake: a few cycles of work).
-  GuardVerdict verify(const PathStep& step, bool closed_form = true, bool certify = false, bool simulate = true,
-                      double simulate_up_to_s = 0) const;
+  // rt-safe. Checks the step from now, then (mode.certify) the certificate from where it ends, and
+  // where that cannot decide, π, cycle by cycle until rest (mode.closed_form: until the rest of π is
+  // one ramp that provably keeps every limit, same verdict).
+  GuardVerdict verify(const PathStep& step, const GuardMode& mode) const;
   // rt-safe. One cycle of π from the present state.
   PathStep brake_now(const ProfileState& now) const { return brake({now.s, now.v, now.a, 0}, 0, Cursor{0, -s_front_}); }
   // rt-safe. One cycle of the certified ramp to rest with limits a, j from the present state.
