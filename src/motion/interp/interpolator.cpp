@@ -133,10 +133,10 @@ const Setpoint& Interpolator::step(double dt) {
     if (left < rest) {
       t_ += left;
       const ProfileState st = ramp_.at(t_);
-      const Vec tan = b.tangent(st.s);
-      sp_.pos = b.point(st.s);
-      sp_.vel = tan * st.v;
-      sp_.acc = tan * st.a + b.curvature(st.s) * (st.v * st.v);
+      const CurveFrame fr = b.frame(st.s);
+      sp_.pos = fr.point;
+      sp_.vel = fr.tangent * st.v;
+      sp_.acc = fr.tangent * st.a + fr.curvature * (st.v * st.v);
       sp_.path_v = st.v;
       sp_.moving = true;
       sp_.rapid = b.rapid;

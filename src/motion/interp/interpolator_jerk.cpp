@@ -166,10 +166,10 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   }
   const Block& b = ring.front();
   const double s = std::min(s_, b.length);
-  const Vec tan = b.tangent(s);
-  sp_.pos = b.point(s);
-  sp_.vel = tan * v_;
-  sp_.acc = tan * a_ + b.curvature(s) * (v_ * v_);
+  const CurveFrame fr = b.frame(s);
+  sp_.pos = fr.point;
+  sp_.vel = fr.tangent * v_;
+  sp_.acc = fr.tangent * a_ + fr.curvature * (v_ * v_);
   sp_.path_v = v_;
   sp_.moving = true;
   sp_.rapid = b.rapid;

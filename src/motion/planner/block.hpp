@@ -61,6 +61,10 @@ struct Block {
   Vec point(double s) const { return is_blend ? blend.point(s) : seg.point(s); }
   Vec tangent(double s) const { return is_blend ? blend.tangent(s) : seg.tangent(s); }
   Vec curvature(double s) const { return is_blend ? blend.curvature(s) : seg.curvature(s); }
+  // All three at s: a Poly curve maps s to its parameter once instead of three times.
+  CurveFrame frame(double s) const {
+    return is_blend ? CurveFrame{blend.point(s), blend.tangent(s), blend.curvature(s)} : seg.frame(s);
+  }
 };
 
 }  // namespace softmc::motion
