@@ -58,6 +58,27 @@ struct Cycle {
   }
 };
 
+// The phases of constant jerk of the ramp from x towards speed vt, as ramp_cycle follows it: |x.a|
+// first brought within a_max at j_max when it is beyond (phase 0), then plan_ramp's three phases
+// from there (|a| clamped to a_max against rounding).
+struct RampPhases {
+  std::array<double, 4> jerk{}, dur{};
+};
+RampPhases ramp_phases(const ProfileState& x, double vt, double a_max, double j_max) {
+  RampPhases ph;
+  ProfileState z{0, x.v, x.a, 0};
+  if (std::abs(x.a) > a_max) {
+    ph.jerk[0] = x.a > 0 ? -j_max : j_max;
+    ph.dur[0] = (std::abs(x.a) - a_max) / j_max;
+    z = advance(z, ph.jerk[0], ph.dur[0]);
+  }
+  z.a = std::clamp(z.a, -a_max, a_max);
+  const Ramp r = plan_ramp(z.v, z.a, vt, a_max, j_max);
+  ph.jerk = {ph.jerk[0], r.dir * r.j, 0, -r.dir * r.j};
+  ph.dur = {ph.dur[0], r.t1, r.t2, r.t3};
+  return ph;
+}
+
 // The ramp to rest from x with limits a, j, as ramp_cycle follows it: |x.a| first brought within a
 // at jerk j when it is beyond (phase 0), then plan_ramp's three phases; the distance to rest, the
 // largest speed on it, and the largest |a| from each phase on.
@@ -70,30 +91,16 @@ struct BrakeRamp {
   double v_up = 0;
 
   BrakeRamp(const ProfileState& x, double a, double j) {
+    const RampPhases ph = ramp_phases(x, 0, a, j);
     ProfileState y{0, x.v, x.a, 0};
     v_up = x.v;
-    double js[kPhases] = {0, 0, 0, 0}, ts[kPhases] = {0, 0, 0, 0};
-    ProfileState z = y;
-    if (std::abs(x.a) > a) {
-      js[0] = x.a > 0 ? -j : j;
-      ts[0] = (std::abs(x.a) - a) / j;
-      z = advance(y, js[0], ts[0]);
-      z.a = std::clamp(z.a, -a, a);
-    }
-    const Ramp r = plan_ramp(z.v, z.a, 0, a, j);
-    js[1] = r.dir * r.j;
-    js[2] = 0;
-    js[3] = -r.dir * r.j;
-    ts[1] = r.t1;
-    ts[2] = r.t2;
-    ts[3] = r.t3;
     for (int i = 0; i < kPhases; ++i) {
       at[i] = y;
-      jerk[i] = js[i];
-      dur[i] = std::max(0.0, ts[i]);
-      if (y.a > 0 && js[i] < 0 && -y.a / js[i] < dur[i]) v_up = std::max(v_up, advance(y, js[i], -y.a / js[i]).v);
-      y = advance(y, js[i], dur[i]);
-      if (i == 0) y.a = z.a;  // as ramp_cycle clamps it
+      jerk[i] = ph.jerk[i];
+      dur[i] = std::max(0.0, ph.dur[i]);
+      if (y.a > 0 && jerk[i] < 0 && -y.a / jerk[i] < dur[i]) v_up = std::max(v_up, advance(y, jerk[i], -y.a / jerk[i]).v);
+      y = advance(y, jerk[i], dur[i]);
+      if (i == 0) y.a = std::clamp(y.a, -a, a);  // as ramp_cycle clamps it
       v_up = std::max(v_up, y.v);
     }
     d_stop = y.s;
@@ -169,13 +176,11 @@ double soft_speed(const Block& b, double feed_override) {
 // rt-safe
 PathStep ramp_cycle(const ProfileState& x, double vt, double a_max, double j_max, double dt) {
   Cycle c(x, dt);
-  if (std::abs(c.st.x.a) > a_max) c.phase((std::abs(c.st.x.a) - a_max) / j_max, c.st.x.a > 0 ? -j_max : j_max);
+  const RampPhases ph = ramp_phases(x, vt, a_max, j_max);
+  c.phase(ph.dur[0], ph.jerk[0]);
   if (c.left <= 0) return c.st;
   c.st.x.a = std::clamp(c.st.x.a, -a_max, a_max);
-  const Ramp r = plan_ramp(c.st.x.v, c.st.x.a, vt, a_max, j_max);
-  c.phase(r.t1, r.dir * r.j);
-  c.phase(r.t2, 0);
-  c.phase(r.t3, -r.dir * r.j);
+  for (int i = 1; i < 4; ++i) c.phase(ph.dur[i], ph.jerk[i]);
   if (c.left > 0) c.hold_rest(vt, 0);  // exactly the target once there
   return c.st;
 }
