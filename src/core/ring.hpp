@@ -38,13 +38,19 @@ class Ring {
   }
   T& front() { return buf_[head_]; }
   const T& front() const { return buf_[head_]; }
-  // i-th element from the front.
-  T& at(std::size_t i) { return buf_[(head_ + i) % buf_.size()]; }
-  const T& at(std::size_t i) const { return buf_[(head_ + i) % buf_.size()]; }
+  // i-th element from the front (i < capacity: one compare instead of a division, which the jerk
+  // guard's walks over the window would pay per block).
+  T& at(std::size_t i) { return buf_[slot(i)]; }
+  const T& at(std::size_t i) const { return buf_[slot(i)]; }
   T& back() { return at(size_ - 1); }
   void clear() { head_ = size_ = 0; }
 
  private:
+  std::size_t slot(std::size_t i) const {
+    assert(i < buf_.size());
+    const std::size_t j = head_ + i;
+    return j >= buf_.size() ? j - buf_.size() : j;
+  }
   std::vector<T> buf_;
   std::size_t head_ = 0;
   std::size_t size_ = 0;

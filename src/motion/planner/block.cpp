@@ -41,4 +41,16 @@ Vec BlendArc::curvature(double s) const {
   return (u * std::cos(ph) + w * std::sin(ph)) * (-1.0 / radius);
 }
 
+// rt-safe. The same three, from sin and cos of φ/2: sin φ = 2·sin(φ/2)·cos(φ/2), cos φ = 1 − 2·sin²(φ/2).
+CurveFrame BlendArc::frame(double s) const {
+  const double ph = std::clamp(s / radius, 0.0, sweep);
+  const double h = std::sin(ph / 2), c = std::cos(ph / 2);
+  const double sn = 2 * h * c, cs = 1 - 2 * h * h;
+  CurveFrame f;
+  f.point = start + (u * (-2 * h * h) + w * sn) * radius;
+  f.tangent = u * -sn + w * cs;
+  f.curvature = (u * cs + w * sn) * (-1.0 / radius);
+  return f;
+}
+
 }  // namespace softmc::motion
