@@ -112,8 +112,9 @@ static void jerk_cycles(benchmark::State& state, const std::vector<motion::PathR
     }
   }
   state.counters["mean_path_v_mm_s"] = v_sum / static_cast<double>(state.iterations());
-  state.counters["simulations_per_cycle"] =
-      static_cast<double>(in.guard_simulations()) / static_cast<double>(std::max<std::uint64_t>(1, in.jerk_cycles()));
+  const auto cycles = static_cast<double>(std::max<std::uint64_t>(1, in.jerk_cycles()));
+  state.counters["simulations_per_cycle"] = static_cast<double>(in.guard_simulations()) / cycles;
+  state.counters["verifies_per_cycle"] = static_cast<double>(in.guard_verifies()) / cycles;
 }
 
 // One jerk-mode interpolation cycle (S-curve path speed with the JerkGuard's verified brake) over a

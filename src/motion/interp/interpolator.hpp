@@ -91,6 +91,7 @@ class Interpolator {
   // were settled by the certificate or refused by the check of the step itself); for benchmarks.
   std::uint64_t jerk_cycles() const { return jerk_cycles_; }
   std::uint64_t guard_simulations() const { return guard_simulations_; }
+  std::uint64_t guard_verifies() const { return guard_verifies_; }  // candidates checked
   // At rest on the path because of a hold, an enable drop or a stop in progress.
   bool halted_at_rest() const { return sp_.moving && sp_.path_v == 0 && halt(); }
 
@@ -121,7 +122,7 @@ class Interpolator {
   // Jerk mode: the fallback brake from the present state, certified when the state was accepted:
   // the ramp to rest with these limits, or (0) the guard's π.
   double cert_a_ = 0, cert_j_ = 0;
-  std::uint64_t jerk_cycles_ = 0, guard_simulations_ = 0;
+  std::uint64_t jerk_cycles_ = 0, guard_simulations_ = 0, guard_verifies_ = 0;
   Inputs in_;
   double override_ = 1;
   bool hold_ = false, enable_ = true, stopped_ = false;

@@ -74,6 +74,7 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   PathStep step = ramp_cycle(now, vt, a_c, j_c, dt);
   const GuardVerdict first = guard.verify(step, mode);
   ++jerk_cycles_;
+  ++guard_verifies_;
   guard_simulations_ += first.simulated ? 1 : 0;
   GuardVerdict taken = first;
   if (first.failed()) {
@@ -108,6 +109,7 @@ const Setpoint& Interpolator::step_jerk(double dt) {
     for (std::size_t i = 0; i < m; ++i) {
       if (!ahead(cand[i], step)) break;
       const GuardVerdict v = guard.verify(cand[i], mode);
+      ++guard_verifies_;
       guard_simulations_ += v.simulated ? 1 : 0;
       if (!v.failed()) {
         step = cand[i];

@@ -90,6 +90,7 @@ struct BrakeRamp {
   double d_stop = 0;
   double v_up = 0;
 
+  BrakeRamp() = default;
   BrakeRamp(const ProfileState& x, double a, double j) {
     const RampPhases ph = ramp_phases(x, 0, a, j);
     ProfileState y{0, x.v, x.a, 0};
@@ -443,12 +444,14 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   const auto reach = [](double d) { return d * (1 + kRel) + kAbs + kTouch_mm; };  // d with rounding
   const auto clear = [](double d_need, double d_have) { return d_need * (1 + kRel) + kAbs <= d_have; };
   double a = acc(c.k), j = jerk(c.k);
+  BrakeRamp r;  // the ramp with the present (a, j), kept for the check below
   const auto distance = [&] {
     if (!(j > 0) || !std::isfinite(j) || !(a > 0)) return -1.0;
     // Braking too hard already: it would reverse (by more than check() lets pass; a position-mode
     // stop ends exactly on v = a²/2J, up to rounding).
     if (x.a < 0 && x.v < x.a * x.a / (2 * j) - kAbs) return -1.0;
-    return BrakeRamp(x, a, j).d_stop;  // |x.a| above a: first brought down to it at j
+    r = BrakeRamp(x, a, j);  // |x.a| above a: first brought down to it at j
+    return r.d_stop;
   };
   double d = distance();
   if (!(d >= 0)) {  // no ramp: about how long a brake would last, for verify()'s choice to simulate
@@ -508,7 +511,6 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   enter();
   if (bad) return Cert::Unknown;
   if (dirty && !((d = distance()) >= 0)) return Cert::Unknown;
-  const BrakeRamp r(x, a, j);
   v.brake_s = r.dur[0] + r.dur[1] + r.dur[2] + r.dur[3];
   const auto broken = [&](bool hard, double at, double u, bool stop) {
     fail(v, hard, p + at, u, stop);  // the simulation's answer when uniform, else a hint
@@ -528,8 +530,11 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
       if (r.dur[0] > 0 && start <= reach(r.at[1].s) && acc(k) < r.a_from[0] &&
           acc(k) < r.a_after(start * (1 - kRel) - kAbs))
         return Cert::Unknown;
-      const double u = std::sqrt(b.v2_junction);
-      if (!clear(r.reach_speed(u), start)) return broken(true, start, u, false);
+      // (v_up² clearly below the junction's u²: reach_speed(u) is 0, no square root needed.)
+      if (!(r.v_up * r.v_up * (1 + 1e-12) < b.v2_junction) || !clear(0, start)) {
+        const double u = std::sqrt(b.v2_junction);
+        if (!clear(r.reach_speed(u), start)) return broken(true, start, u, false);
+      }
     }
     const double here = std::max(start, 0.0);
     const auto over_cap = [&](double cap) { return k == c.k ? r.v_up > cap : !clear(r.reach_speed(cap), start); };
