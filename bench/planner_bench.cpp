@@ -122,7 +122,9 @@ static void jerk_cycles(benchmark::State& state, const std::vector<motion::PathR
 // the ramps at the start, so acceleration, cruise and the brake checks at the window's end all take
 // their share. Arg: the guard mode (guard_mode above).
 static void BM_JerkCycle4Axes(benchmark::State& state) { jerk_cycles(state, polyline(0.5)); }
-BENCHMARK(BM_JerkCycle4Axes)->DenseRange(0, 3);
+// A fixed number of cycles: every run covers the same stretch of the path (starting ramps, cruise,
+// laps), so runs and binaries compare like for like, also under `valgrind --tool=callgrind`.
+BENCHMARK(BM_JerkCycle4Axes)->DenseRange(0, 3)->Iterations(300'000);
 
 // The same cycle on the same polyline smoothed as the Channel does by default on a jerk-limited
 // machine (polyline_smoothing.hpp: one C² B-spline lap of Poly pieces). Arg: the guard mode.
@@ -137,4 +139,4 @@ static void BM_JerkCycleSmoothed4Axes(benchmark::State& state) {
     for (const auto& seg : l) reqs.push_back({seg, 100, false, static_cast<std::uint32_t>(reqs.size())});
   jerk_cycles(state, reqs);
 }
-BENCHMARK(BM_JerkCycleSmoothed4Axes)->DenseRange(0, 3);
+BENCHMARK(BM_JerkCycleSmoothed4Axes)->DenseRange(0, 3)->Iterations(50'000);
