@@ -42,8 +42,9 @@ struct InterpolatorConfig {
   // Jerk mode: the guard ends its brake simulation where the rest is one closed-form ramp that keeps
   // every limit (same verdicts, bit-identical setpoints); false simulates to rest (tests, benchmarks).
   bool guard_closed_form = true;
-  // Jerk mode: the guard answers its brake's range queries from a per-cycle index of the window
-  // (same answers as walking the blocks; false walks them: tests, benchmarks).
+  // Jerk mode: the guard answers its brake's range queries from the group minima of its per-cycle
+  // index of the window, and its certificate skips groups that keep every cap (same answers as
+  // taking the blocks one by one; false takes them one by one: tests, benchmarks).
   bool guard_index = true;
   // Jerk mode: the guard first tries its certificate, the closed-form ramp to rest with the smallest
   // limits it meets (jerk_guard.hpp), and simulates its brake π only where that cannot decide: with
@@ -92,6 +93,7 @@ class Interpolator {
   std::uint64_t jerk_cycles() const { return jerk_cycles_; }
   std::uint64_t guard_simulations() const { return guard_simulations_; }
   std::uint64_t guard_verifies() const { return guard_verifies_; }  // candidates checked
+  std::uint64_t guard_groups_skipped() const { return scratch_.groups_skipped; }  // GuardScratch
   // At rest on the path because of a hold, an enable drop or a stop in progress.
   bool halted_at_rest() const { return sp_.moving && sp_.path_v == 0 && halt(); }
 

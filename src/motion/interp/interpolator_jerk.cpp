@@ -65,7 +65,8 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   // speed it missed, holding the acceleration, lowering it — the fastest accepted one wins. The
   // fallback certified when the present state was accepted is always safe from here (its rest is
   // what was checked), so one cycle of it is the last resort.
-  const JerkGuard guard(ring, n, s_, v_, dt, scale, h, override_, config_.guard_index ? &scratch_ : nullptr);
+  scratch_.groups = config_.guard_index;
+  const JerkGuard guard(ring, n, s_, v_, dt, scale, h, override_, scratch_);
   GuardMode mode;
   mode.closed_form = config_.guard_closed_form;
   mode.certify = config_.guard_certificate;
@@ -170,8 +171,11 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   const double s = std::min(s_, b.length);
   const CurveFrame fr = b.frame(s);
   sp_.pos = fr.point;
-  sp_.vel = fr.tangent * v_;
-  sp_.acc = fr.tangent * a_ + fr.curvature * (v_ * v_);
+  const double v2 = v_ * v_;
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
+    sp_.vel[i] = fr.tangent[i] * v_;
+    sp_.acc[i] = fr.tangent[i] * a_ + fr.curvature[i] * v2;
+  }
   sp_.path_v = v_;
   sp_.moving = true;
   sp_.rapid = b.rapid;

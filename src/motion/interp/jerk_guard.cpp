@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <cmath>
 #include <limits>
 
@@ -98,17 +99,20 @@ struct BrakeRamp {
     for (int i = 0; i < kPhases; ++i) {
       at[i] = y;
       jerk[i] = ph.jerk[i];
-      dur[i] = std::max(0.0, ph.dur[i]);
-      if (y.a > 0 && jerk[i] < 0 && -y.a / jerk[i] < dur[i]) v_up = std::max(v_up, advance(y, jerk[i], -y.a / jerk[i]).v);
-      y = advance(y, jerk[i], dur[i]);
+      dur[i] = ph.dur[i] > 0 ? ph.dur[i] : 0.0;
+      if (dur[i] > 0) {
+        // The speed peaks where a falls through 0: v + a²/2|j| (a > 0, jerk < 0).
+        if (y.a > 0 && jerk[i] < 0 && -y.a / jerk[i] < dur[i]) v_up = std::max(v_up, y.v - y.a * y.a / (2 * jerk[i]));
+        y = advance(y, jerk[i], dur[i]);
+      }
       if (i == 0) y.a = std::clamp(y.a, -a, a);  // as ramp_cycle clamps it
       v_up = std::max(v_up, y.v);
     }
     d_stop = y.s;
     a_from[kPhases] = 0;
     for (int i = kPhases - 1; i >= 0; --i) {
-      const double a_end = i + 1 < kPhases ? at[i + 1].a : 0.0;
-      a_from[i] = std::max({a_from[i + 1], dur[i] > 0 ? std::abs(at[i].a) : 0.0, std::abs(a_end)});
+      const double a_end = i + 1 < kPhases ? std::abs(at[i + 1].a) : 0.0;
+      a_from[i] = std::max(std::max(a_from[i + 1], a_end), dur[i] > 0 ? std::abs(at[i].a) : 0.0);
     }
   }
 
@@ -169,12 +173,6 @@ struct BrakeRamp {
 }  // namespace
 
 // rt-safe
-double soft_speed(const Block& b, double feed_override) {
-  if (b.rapid) return b.v_cap_mm_s * std::min(1.0, feed_override);
-  return std::min(b.v_cap_mm_s, b.feed_mm_s * feed_override);
-}
-
-// rt-safe
 PathStep ramp_cycle(const ProfileState& x, double vt, double a_max, double j_max, double dt) {
   Cycle c(x, dt);
   const RampPhases ph = ramp_phases(x, vt, a_max, j_max);
@@ -194,9 +192,11 @@ PathStep jerk_cycle(const ProfileState& x, double j, double dt) {
 }
 
 JerkGuard::JerkGuard(const core::Ring<Block>& ring, std::size_t n, double s_front, double v_now, double dt,
-                     double scale, bool halt, double feed_override, GuardScratch* scratch)
+                     double scale, bool halt, double feed_override, GuardScratch& scratch)
     : ring_(ring), n_(n), s_front_(s_front), v_now_(v_now), dt_(dt), scale_(scale), halt_(halt),
-      override_(feed_override), scratch_(scratch && scratch->start.size() >= n + 1 ? scratch : nullptr) {}
+      override_(feed_override), g_(scratch) {
+  assert(g_.start.size() >= n + 1);
+}
 
 // rt-safe
 double JerkGuard::jerk_min_walk(std::size_t from, double first, double p, double d, double j) const {
@@ -208,44 +208,60 @@ double JerkGuard::jerk_min_walk(std::size_t from, double first, double p, double
   return j;
 }
 
-// rt-safe. Extends the index while the last indexed block starts within d of p. Block starts are
-// summed in the order check() and brake() sum them (from −s_front), so they are the same numbers.
+// rt-safe. Indexes block built_: its limits, the start of the next (summed in the order check()
+// and brake() sum them, from −s_front, so they are the same numbers), its group's minima.
+void JerkGuard::index_block() const {
+  GuardScratch& g = g_;
+  if (built_ == 0) g.start[0] = -s_front_;
+  const std::size_t k = built_;
+  const Block& b = ring_.at(k);
+  // As jerk(k), acc(k) and soft(k) give them, from one read of the block.
+  const double jk = (std::isfinite(b.j_mm_s3) ? b.j_mm_s3 : b.a_mm_s2 / dt_) * scale_;
+  const double sk = soft_of(b, k);
+  g.jerk[k] = jk;
+  g.acc[k] = b.a_mm_s2 * scale_;
+  g.hard[k] = b.v_split_mm_s;
+  g.soft[k] = sk;
+  g.u2[k] = b.v2_junction;
+  if (b.v2_junction <= 0) g.stops[nstops_++] = k;
+  const std::size_t q = k / GuardScratch::kGroup;
+  const double cap = std::min(b.v_split_mm_s, sk);
+  const bool first = k % GuardScratch::kGroup == 0;
+  g.group_min[q] = first ? jk : std::min(g.group_min[q], jk);
+  g.group_cap[q] = first ? cap : std::min(g.group_cap[q], cap);
+  g.group_u2[q] = first ? b.v2_junction : std::min(g.group_u2[q], b.v2_junction);
+  g.start[k + 1] = g.start[k] + b.length;
+  ++built_;
+}
+
+// rt-safe
+void JerkGuard::index_through(std::size_t k) const {
+  const std::size_t last = std::min(k, n_ - 1);
+  while (built_ <= last) index_block();
+}
+
+// rt-safe. Extends the index while the last indexed block starts within d of p.
 void JerkGuard::index_until(double p, double d) const {
-  GuardScratch& g = *scratch_;
-  if (built_ == 0) {
-    g.start[0] = -s_front_;
-    built_ = 1;
-  }
-  while (built_ <= n_ && g.start[built_ - 1] - p < d) {
-    const std::size_t k = built_ - 1;  // index block k: its jerk, and the start of k + 1
-    const Block& b = ring_.at(k);
-    g.jerk[k] = jerk(k);
-    if (b.v2_junction <= 0) g.stops[nstops_++] = k;
-    const std::size_t q = k / GuardScratch::kGroup;
-    g.group_min[q] = k % GuardScratch::kGroup == 0 ? g.jerk[k] : std::min(g.group_min[q], g.jerk[k]);
-    g.start[built_] = g.start[k] + b.length;
-    ++built_;
-    if (built_ > n_) break;
-  }
+  if (built_ == 0 && n_ > 0) index_block();
+  while (built_ < n_ && g_.start[built_] - p < d) index_block();  // start[built_]: the next block's
 }
 
 // rt-safe. The walk's answer from the index: the blocks from `from` up to the first that starts d
 // or more beyond p, the first exact stop, or n.
 double JerkGuard::jerk_min(std::size_t from, double first, double p, double d, double j) const {
-  if (!scratch_) return jerk_min_walk(from, first, p, d, j);
-  const GuardScratch& g = *scratch_;
+  if (!g_.groups) return jerk_min_walk(from, first, p, d, j);
+  const GuardScratch& g = g_;
   index_until(p, d);
   // g.start[k] for k ≥ 1 equals the walk's `start` at block k (same additions); block k is taken
-  // while k < n, start − p < d, and it is no stop. Indexed blocks: 0 … built_ − 1 (jerks) and
-  // starts 0 … built_ − 1 (the loop above stops once a start is d beyond p, or at n).
-  if (from >= n_ || !(g.start[from] == first)) return jerk_min_walk(from, first, p, d, j);
-  std::size_t lo = from, hi = std::min(built_ - 1, n_);  // first k in [from, hi] failing start − p < d
+  // while k < n, start − p < d, and it is no stop. Indexed: blocks 0 … built_ − 1 and starts
+  // 0 … built_ (the loop above stops once the next start is d beyond p, or at n).
+  if (from >= n_ || from > built_ || !(g.start[from] == first)) return jerk_min_walk(from, first, p, d, j);
+  std::size_t lo = from, hi = built_;  // the first k in [from, built_) failing start − p < d, else built_
   while (lo < hi) {
     const std::size_t mid = lo + (hi - lo) / 2;
     if (g.start[mid] - p < d) lo = mid + 1; else hi = mid;
   }
-  std::size_t end = lo;  // blocks [from, end) start within d (end ≤ built_ − 1 < number of jerks)
-  if (end > built_ - 1) end = built_ - 1;
+  std::size_t end = lo;  // blocks [from, end) start within d, all indexed
   // The first exact stop at or after `from` ends the range too.
   std::size_t a = 0, b = nstops_;
   while (a < b) {
@@ -272,10 +288,12 @@ double JerkGuard::jerk(std::size_t k) const {
   return (std::isfinite(b.j_mm_s3) ? b.j_mm_s3 : b.a_mm_s2 / dt_) * scale_;
 }
 
-double JerkGuard::soft(std::size_t k) const {
+double JerkGuard::soft(std::size_t k) const { return soft_of(ring_.at(k), k); }
+
+double JerkGuard::soft_of(const Block& b, std::size_t k) const {
   if (halt_) return kInf;
   // v_split_mm_s: a block without a jerk limit keeps a_mm_s2 only up to there (Block).
-  double s = std::min(soft_speed(ring_.at(k), override_), ring_.at(k).v_split_mm_s);
+  double s = std::min(soft_speed(b, override_), b.v_split_mm_s);
   if (!(s > 0)) return kInf;  // override 0: the ramp to the cruise speed 0 stops the path
   if (k == 0) s = std::max(s, v_now_);  // already faster (the override dropped): only the ramp down is asked
   return s;
@@ -465,12 +483,12 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   const auto scan = [&] { return (x.a > 0 ? x.v + x.a * x.a / (2 * j) : x.v) * (a / j + 2 * dt_) + kTouch_mm; };
   bool uniform = true;
   double stop_at = kInf;  // from p: the first exact stop or the window's end the walk meets
-  // Two cursors over the blocks after c.k: `ks` scans (jerk, stops, uniformity) up to the ramp's
+  // Two cursors over the blocks after c.k (the index: g.start[k] is block k's start from now, the
+  // same number as c.start for k = c.k): `ks` scans (jerk, stops, uniformity) up to the ramp's
   // reach plus π's scan; `ke` follows it over the blocks the ramp enters (acceleration). Each lower
   // limit lengthens the ramp, and both cursors go on from where they are.
-  const double first = c.start - p + ring_.at(c.k).length;  // start of block c.k + 1, from p
+  const GuardScratch& g = g_;
   std::size_t ks = c.k + 1, ke = c.k + 1;
-  double ss = first, se = first;
   // A lowered limit only lengthens the ramp, so its distance is brought up to date only where the
   // walk would otherwise stop (`within`): one ramp per extension of the walk, not one per block.
   bool dirty = false, bad = false;
@@ -485,25 +503,27 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
     }
     return at <= reach(d) + extra;
   };
-  const auto enter = [&] {
-    for (; ke < ks && within(se, 0); se += ring_.at(ke).length, ++ke) {
-      if (acc(ke) < a) {
-        a = acc(ke);
+  const auto enter = [&] {  // blocks ke < ks are indexed (the scan has read them)
+    for (; ke < ks && within(g.start[ke] - p, 0); ++ke) {
+      if (g.acc[ke] < a) {
+        a = g.acc[ke];
         dirty = true;
       }
     }
   };
-  for (;; ss += ring_.at(ks).length, ++ks) {
+  for (;; ++ks) {
     enter();
     if (bad) return Cert::Unknown;
+    index_through(ks);  // its start, and its limits when it is inside the window
+    const double ss = g.start[ks] - p;
     if (!within(ss, scan())) break;
-    if (ks >= n_ || ring_.at(ks).v2_junction <= 0) {
+    if (ks >= n_ || g.u2[ks] <= 0) {
       stop_at = ss;
       break;
     }
-    if (acc(ks) != a || jerk(ks) != j) uniform = false;
-    if (jerk(ks) < j) {
-      j = jerk(ks);
+    if (g.acc[ks] != a || g.jerk[ks] != j) uniform = false;
+    if (g.jerk[ks] < j) {
+      j = g.jerk[ks];
       dirty = true;
     }
   }
@@ -516,31 +536,45 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
     fail(v, hard, p + at, u, stop);  // the simulation's answer when uniform, else a hint
     return uniform ? Cert::Fails : Cert::Unknown;
   };
-  double start = c.start - p;
-  for (std::size_t k = c.k; start <= reach(r.d_stop); ++k) {
+  // Every block the ramp enters (all indexed: the scan went beyond them), one by one, or a group
+  // of 16 at once where all its caps and junction speeds are at least the ramp's peak v_up, none
+  // of them a stop, beyond where |a| is brought down (phase 0): each block's test passes there.
+  constexpr std::size_t G = GuardScratch::kGroup;
+  const double v_up2 = r.v_up * r.v_up * (1 + 1e-12);
+  const double phase0_end = r.dur[0] > 0 ? reach(r.at[1].s) : -kInf;
+  for (std::size_t k = c.k;;) {
+    const double start = g.start[k] - p;
+    if (!(start <= reach(r.d_stop))) break;
     if (k > c.k && start >= stop_at) {  // an exact stop or the window's end: reached at rest, never crossed
       if (r.d_stop > start + kAbs) return broken(true, start, 0, true);
       break;
     }
-    const Block& b = ring_.at(k);
+    if (g.groups && k > c.k && k % G == 0 && k + G <= n_ && start >= kAbs && start > phase0_end) {
+      index_through(k + G - 1);
+      const std::size_t q = k / G;
+      if (g.group_u2[q] > v_up2 && g.group_cap[q] >= r.v_up && g.start[k + G - 1] - p < stop_at) {
+        k += G;
+        ++g_.groups_skipped;
+        continue;
+      }
+    }
     if (k > c.k) {
       // |x.a| above A comes down at J first: a block entered meanwhile must allow the |a| from
       // where it is entered on (A itself it allows: A is the least of the blocks entered).
       // (Only while phase 0 lasts: after it |a| ≤ A.)
-      if (r.dur[0] > 0 && start <= reach(r.at[1].s) && acc(k) < r.a_from[0] &&
-          acc(k) < r.a_after(start * (1 - kRel) - kAbs))
+      if (start <= phase0_end && g.acc[k] < r.a_from[0] && g.acc[k] < r.a_after(start * (1 - kRel) - kAbs))
         return Cert::Unknown;
       // (v_up² clearly below the junction's u²: reach_speed(u) is 0, no square root needed.)
-      if (!(r.v_up * r.v_up * (1 + 1e-12) < b.v2_junction) || !clear(0, start)) {
-        const double u = std::sqrt(b.v2_junction);
+      if (!(v_up2 < g.u2[k]) || !clear(0, start)) {
+        const double u = std::sqrt(g.u2[k]);
         if (!clear(r.reach_speed(u), start)) return broken(true, start, u, false);
       }
     }
     const double here = std::max(start, 0.0);
     const auto over_cap = [&](double cap) { return k == c.k ? r.v_up > cap : !clear(r.reach_speed(cap), start); };
-    if (over_cap(b.v_split_mm_s)) return broken(true, here, b.v_split_mm_s, false);
-    if (over_cap(soft(k))) return broken(false, here, soft(k), false);
-    start += b.length;
+    if (over_cap(g.hard[k])) return broken(true, here, g.hard[k], false);
+    if (over_cap(g.soft[k])) return broken(false, here, g.soft[k], false);
+    ++k;
   }
   v.cert_a = a;
   v.cert_j = j;

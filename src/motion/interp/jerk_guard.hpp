@@ -25,7 +25,9 @@
 // always has a checked next step.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "core/ring.hpp"
@@ -35,7 +37,10 @@
 namespace softmc::motion {
 
 // rt-safe. Path speed the feed and override ask for on `b`, under its hard cap (rapids: override ≤ 1).
-double soft_speed(const Block& b, double feed_override);
+inline double soft_speed(const Block& b, double feed_override) {
+  if (b.rapid) return b.v_cap_mm_s * std::min(1.0, feed_override);
+  return std::min(b.v_cap_mm_s, b.feed_mm_s * feed_override);
+}
 
 // One cycle of path motion: the state it ends in (x.s = distance moved) and bounds within the cycle.
 struct PathStep {
@@ -66,17 +71,25 @@ struct GuardVerdict {
   bool failed() const { return !hard_ok || !soft_ok; }
 };
 
-// Per-cycle index of the window for the guard, sized once (Interpolator construction): block starts
-// from now, each block's jerk limit and the minimum of each group of 16, and the exact stops, filled
-// lazily as far as a brake looks. brake() asks "the smallest jerk from block k while a block starts
-// within d of p" in every simulated cycle; with the index that is a binary search and a few group
-// minima instead of a walk over every block to the stop point, with exactly the same answer.
+// Per-cycle index of the window for the guard, sized once (Interpolator construction): from the
+// front, each block's start (distance from now), its limits as this cycle's guard sees them (scaled
+// acceleration and jerk, hard cap, soft cap under the override, junction speed²), the minima of
+// each group of 16, and the exact stops; filled lazily as far as a check looks. The certificate
+// walks the compact arrays instead of the 1.9 kB blocks, and where a whole group keeps every cap
+// and junction it skips the group in one step. brake() asks "the smallest jerk from block k while
+// a block starts within d of p" in every simulated cycle: a binary search and a few group minima.
+// Group skipping (groups = false: every block one by one, the reference) never changes an answer.
 struct GuardScratch {
   static constexpr std::size_t kGroup = 16;
   explicit GuardScratch(std::size_t blocks)
-      : start(blocks + 1), jerk(blocks + 1), group_min(blocks / kGroup + 2), stops(blocks + 1) {}
-  std::vector<double> start, jerk, group_min;
+      : start(blocks + 1), jerk(blocks + 1), acc(blocks + 1), hard(blocks + 1), soft(blocks + 1), u2(blocks + 1),
+        group_min(blocks / kGroup + 2), group_cap(blocks / kGroup + 2), group_u2(blocks / kGroup + 2),
+        stops(blocks + 1) {}
+  std::vector<double> start, jerk, acc, hard, soft, u2;
+  std::vector<double> group_min, group_cap, group_u2;  // per group: least jerk, cap (hard or soft), u²
   std::vector<std::size_t> stops;
+  bool groups = true;
+  std::uint64_t groups_skipped = 0;  // by the certificate, since construction
 };
 
 // How JerkGuard::verify reaches its verdict (InterpolatorConfig's guard_* keys).
@@ -92,8 +105,9 @@ class JerkGuard {
   // `n` blocks of `ring` from the front (the rest is beyond the horizon: its start is a stop);
   // `s_front` the distance into the front block, `v_now` the present speed (the front block's soft
   // cap is relaxed to it: an override that dropped cannot be obeyed instantly); `scale` scales A, J.
+  // `scratch` holds at least n + 1 blocks.
   JerkGuard(const core::Ring<Block>& ring, std::size_t n, double s_front, double v_now, double dt, double scale,
-            bool halt, double feed_override, GuardScratch* scratch = nullptr);
+            bool halt, double feed_override, GuardScratch& scratch);
 
   // rt-safe. Checks the step from now, then (mode.certify) the certificate from where it ends, and
   // where that cannot decide, π, cycle by cycle until rest (mode.closed_form: until the rest of π is
@@ -120,19 +134,22 @@ class JerkGuard {
   Cert certify(const ProfileState& x, double p, const Cursor& c, GuardVerdict& v) const;
   bool check(Cursor& c, double p0, double v0, const PathStep& st, GuardVerdict& verdict) const;
   double soft(std::size_t k) const;
+  double soft_of(const Block& b, std::size_t k) const;  // soft(k) of block k = b
   bool fail(GuardVerdict& v, bool hard, double at, double u, bool stop) const;
   // min(j, jerk(k)) over k = from, from + 1, … while k < n, the block starts within d of p
   // (start − p < d) and it is no exact stop: the walk, or the index when there is one.
   double jerk_min_walk(std::size_t from, double first, double p, double d, double j) const;
   double jerk_min(std::size_t from, double first, double p, double d, double j) const;
   void index_until(double p, double d) const;
+  void index_through(std::size_t k) const;  // blocks 0 … min(k, n − 1) and their ends
+  void index_block() const;                 // the next block
 
   const core::Ring<Block>& ring_;
   std::size_t n_;
   double s_front_, v_now_, dt_, scale_;
   bool halt_;
   double override_;
-  GuardScratch* scratch_;
+  GuardScratch& g_;
   mutable std::size_t built_ = 0;  // blocks indexed (their starts and jerks), from the front
   mutable std::size_t nstops_ = 0;
 };

@@ -46,10 +46,13 @@ CurveFrame BlendArc::frame(double s) const {
   const double ph = std::clamp(s / radius, 0.0, sweep);
   const double h = std::sin(ph / 2), c = std::cos(ph / 2);
   const double sn = 2 * h * c, cs = 1 - 2 * h * h;
+  const double pu = -2 * h * h * radius, pw = sn * radius, k = -1.0 / radius;
   CurveFrame f;
-  f.point = start + (u * (-2 * h * h) + w * sn) * radius;
-  f.tangent = u * -sn + w * cs;
-  f.curvature = (u * cs + w * sn) * (-1.0 / radius);
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i) {  // one pass over the axes, no temporaries
+    f.point[i] = start[i] + u[i] * pu + w[i] * pw;
+    f.tangent[i] = w[i] * cs - u[i] * sn;
+    f.curvature[i] = (u[i] * cs + w[i] * sn) * k;
+  }
   return f;
 }
 

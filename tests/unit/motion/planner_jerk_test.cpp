@@ -266,6 +266,52 @@ TEST(PlannerJerk, GuardShortcutsGiveTheSameSetpoints) {
   }
 }
 
+// 0.5 mm chords of a circle R 30 with Z swinging along, smoothed as the Channel does by default on
+// a jerk-limited machine (one C² B-spline of Poly pieces, each with its own limits).
+namespace {
+std::vector<PathRequest> smoothed_circle(std::vector<core::Vec>& pts) {
+  for (int k = 0; k <= 400; ++k) {
+    const double a = 2 * std::numbers::pi * k / 376.99;
+    pts.push_back(xyz(30 * std::sin(a), 30 - 30 * std::cos(a), 2 - 2 * std::cos(a)));
+  }
+  std::vector<std::vector<Segment>> out;
+  smooth_polyline(pts, PolylineSmoothing{}, out);
+  std::vector<PathRequest> reqs;
+  for (const auto& line : out)
+    for (const auto& seg : line) reqs.push_back({seg, 100, false, static_cast<std::uint32_t>(reqs.size())});
+  return reqs;
+}
+}  // namespace
+
+// The certificate skips a group of 16 blocks of its index at once where every cap and junction in
+// it is above the ramp's peak (GuardScratch); that must never change a verdict. On a smoothed
+// flower (0.5 mm chords, the radius swinging 30 ± 12 mm three times a lap: the pieces' caps rise
+// and fall, tens of them within the braking distance) the default run skips groups and gives
+// setpoints bit-identical to the one taking every block one by one.
+TEST(PlannerJerk, CertificateGroupSkipsGiveTheSameSetpoints) {
+  const auto lim = jerk_limits(200, 2000, 10000);
+  std::vector<core::Vec> pts;
+  for (int k = 0; k <= 500; ++k) {
+    const double a = 2 * std::numbers::pi * k / 500, r = 30 + 12 * std::sin(3 * a);
+    pts.push_back(xyz(r * std::cos(a), r * std::sin(a), 1 - std::cos(a)));
+  }
+  std::vector<std::vector<Segment>> out;
+  smooth_polyline(pts, PolylineSmoothing{}, out);
+  std::vector<PathRequest> reqs;
+  for (const auto& line : out)
+    for (const auto& seg : line) reqs.push_back({seg, 150, false, static_cast<std::uint32_t>(reqs.size())});
+  InterpolatorConfig groups, one_by_one;
+  one_by_one.guard_index = false;
+  std::uint64_t skipped = 0, skipped_off = 0;
+  run_path(lim, reqs, 256, {}, [&](std::uint64_t, Interpolator& in) { skipped = in.guard_groups_skipped(); },
+           20'000'000, groups);
+  run_path(lim, reqs, 256, {}, [&](std::uint64_t, Interpolator& in) { skipped_off = in.guard_groups_skipped(); },
+           20'000'000, one_by_one);
+  EXPECT_GT(skipped, 1000u);
+  EXPECT_EQ(skipped_off, 0u);
+  expect_identical_runs(lim, reqs, groups, one_by_one, 0);
+}
+
 // The guard's certificate (jerk_guard.hpp): on a smoothed CAM curve (the Channel's default for a
 // jerk-limited machine: every piece has its own limits, so π's closed-form tail rarely applies) the
 // default guard settles every step without a long simulation of π, every limit and P still hold, and
@@ -275,15 +321,7 @@ TEST(PlannerJerk, GuardShortcutsGiveTheSameSetpoints) {
 TEST(PlannerJerk, CertificateSettlesStepsWithoutSimulatingTheBrake) {
   const auto lim = jerk_limits(200, 2000, 10000);
   std::vector<core::Vec> pts;
-  for (int k = 0; k <= 400; ++k) {  // 0.5 mm chords of a circle R 30, with Z swinging along
-    const double a = 2 * std::numbers::pi * k / 376.99;
-    pts.push_back(xyz(30 * std::sin(a), 30 - 30 * std::cos(a), 2 - 2 * std::cos(a)));
-  }
-  std::vector<std::vector<Segment>> out;
-  smooth_polyline(pts, PolylineSmoothing{}, out);
-  std::vector<PathRequest> reqs;
-  for (const auto& line : out)
-    for (const auto& seg : line) reqs.push_back({seg, 100, false, static_cast<std::uint32_t>(reqs.size())});
+  const auto reqs = smoothed_circle(pts);
   ASSERT_GT(reqs.size(), 100u);
   struct Count {
     std::uint64_t cycles = 0, sims = 0;
