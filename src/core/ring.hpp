@@ -3,6 +3,7 @@
 
 #include <cassert>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace softmc::core {
@@ -16,6 +17,7 @@ class Ring {
   void reserve(std::size_t capacity) {
     buf_.assign(capacity, T{});
     head_ = size_ = 0;
+    ++changes_;
   }
 
   std::size_t capacity() const { return buf_.size(); }
@@ -35,6 +37,7 @@ class Ring {
     assert(size_ > 0);
     head_ = (head_ + 1) % buf_.size();
     --size_;
+    ++changes_;
   }
   T& front() { return buf_[head_]; }
   const T& front() const { return buf_[head_]; }
@@ -43,7 +46,13 @@ class Ring {
   T& at(std::size_t i) { return buf_[slot(i)]; }
   const T& at(std::size_t i) const { return buf_[slot(i)]; }
   T& back() { return at(size_ - 1); }
-  void clear() { head_ = size_ = 0; }
+  void clear() {
+    head_ = size_ = 0;
+    ++changes_;
+  }
+  // Counts pops and clears: while it stays the same, at(i) is the same element for every i < size()
+  // (pushes only append). Lets a reader keep what it derived from the elements between calls.
+  std::uint64_t changes() const { return changes_; }
 
  private:
   std::size_t slot(std::size_t i) const {
@@ -54,6 +63,7 @@ class Ring {
   std::vector<T> buf_;
   std::size_t head_ = 0;
   std::size_t size_ = 0;
+  std::uint64_t changes_ = 0;
 };
 
 }  // namespace softmc::core

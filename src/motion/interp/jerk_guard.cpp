@@ -195,35 +195,46 @@ JerkGuard::JerkGuard(const core::Ring<Block>& ring, std::size_t n, double s_fron
                      double scale, bool halt, double feed_override, GuardScratch& scratch)
     : ring_(ring), n_(n), s_front_(s_front), v_now_(v_now), dt_(dt), scale_(scale), halt_(halt),
       override_(feed_override), g_(scratch) {
-  assert(g_.start.size() >= n + 1);
+  assert(n >= 1 && n <= ring.size() && g_.start.size() >= n + 1);
+  GuardScratch& g = g_;
+  // The index of the last cycle holds while the same blocks are at the same places (no pop, no
+  // clear) and limits read the same; blocks committed since can have lowered the old back's jerk.
+  if (ring.changes() != g.changes || ring.size() < g.size || scale != g.scale || halt != g.halt ||
+      feed_override != g.feed_override || dt != g.dt) {
+    g.built = 0;
+  } else if (ring.size() != g.size) {
+    g.built = std::min(g.built, g.size > 0 ? g.size - 1 : 0);
+  }
+  while (g.nstops > 0 && g.stops[g.nstops - 1] >= g.built) --g.nstops;
+  g.start[0] = 0;
+  g.changes = ring.changes();
+  g.size = ring.size();
+  g.scale = scale;
+  g.halt = halt;
+  g.feed_override = feed_override;
+  g.dt = dt;
 }
 
 // rt-safe
-double JerkGuard::jerk_min_walk(std::size_t from, double first, double p, double d, double j) const {
-  double start = first;
-  for (std::size_t k = from; k < n_ && start - p < d && ring_.at(k).v2_junction > 0; ++k) {
-    j = std::min(j, jerk(k));
-    start += ring_.at(k).length;
-  }
+double JerkGuard::jerk_min_walk(std::size_t from, double p, double d, double j) const {
+  for (std::size_t k = from; k < n_ && start(k) - p < d && u2(k) > 0; ++k) j = std::min(j, jerk(k));
   return j;
 }
 
-// rt-safe. Indexes block built_: its limits, the start of the next (summed in the order check()
-// and brake() sum them, from −s_front, so they are the same numbers), its group's minima.
+// rt-safe. Indexes the next block: its limits, the start of the one after, its group's minima.
 void JerkGuard::index_block() const {
   GuardScratch& g = g_;
-  if (built_ == 0) g.start[0] = -s_front_;
-  const std::size_t k = built_;
+  const std::size_t k = g.built;
   const Block& b = ring_.at(k);
-  // As jerk(k), acc(k) and soft(k) give them, from one read of the block.
+  // A block without a jerk limit (Trapezoid profile, axes with j = 0) reaches its acceleration in one cycle.
   const double jk = (std::isfinite(b.j_mm_s3) ? b.j_mm_s3 : b.a_mm_s2 / dt_) * scale_;
-  const double sk = soft_of(b, k);
+  const double sk = soft_raw(b);
   g.jerk[k] = jk;
   g.acc[k] = b.a_mm_s2 * scale_;
   g.hard[k] = b.v_split_mm_s;
   g.soft[k] = sk;
   g.u2[k] = b.v2_junction;
-  if (b.v2_junction <= 0) g.stops[nstops_++] = k;
+  if (b.v2_junction <= 0) g.stops[g.nstops++] = k;
   const std::size_t q = k / GuardScratch::kGroup;
   const double cap = std::min(b.v_split_mm_s, sk);
   const bool first = k % GuardScratch::kGroup == 0;
@@ -231,44 +242,42 @@ void JerkGuard::index_block() const {
   g.group_cap[q] = first ? cap : std::min(g.group_cap[q], cap);
   g.group_u2[q] = first ? b.v2_junction : std::min(g.group_u2[q], b.v2_junction);
   g.start[k + 1] = g.start[k] + b.length;
-  ++built_;
+  ++g.built;
 }
 
 // rt-safe
 void JerkGuard::index_through(std::size_t k) const {
   const std::size_t last = std::min(k, n_ - 1);
-  while (built_ <= last) index_block();
+  while (g_.built <= last) index_block();
 }
 
-// rt-safe. Extends the index while the last indexed block starts within d of p.
+// rt-safe. Extends the index while the next block to index starts within d of p.
 void JerkGuard::index_until(double p, double d) const {
-  if (built_ == 0 && n_ > 0) index_block();
-  while (built_ < n_ && g_.start[built_] - p < d) index_block();  // start[built_]: the next block's
+  while (g_.built < n_ && start(g_.built) - p < d) index_block();
 }
 
-// rt-safe. The walk's answer from the index: the blocks from `from` up to the first that starts d
-// or more beyond p, the first exact stop, or n.
-double JerkGuard::jerk_min(std::size_t from, double first, double p, double d, double j) const {
-  if (!g_.groups) return jerk_min_walk(from, first, p, d, j);
-  const GuardScratch& g = g_;
+// rt-safe. The walk's answer from the group minima: the blocks from `from` up to the first that
+// starts d or more beyond p, the first exact stop, or n.
+double JerkGuard::jerk_min(std::size_t from, double p, double d, double j) const {
+  if (!g_.groups) return jerk_min_walk(from, p, d, j);
+  if (from >= n_) return j;
   index_until(p, d);
-  // g.start[k] for k ≥ 1 equals the walk's `start` at block k (same additions); block k is taken
-  // while k < n, start − p < d, and it is no stop. Indexed: blocks 0 … built_ − 1 and starts
-  // 0 … built_ (the loop above stops once the next start is d beyond p, or at n).
-  if (from >= n_ || from > built_ || !(g.start[from] == first)) return jerk_min_walk(from, first, p, d, j);
-  std::size_t lo = from, hi = built_;  // the first k in [from, built_) failing start − p < d, else built_
+  const GuardScratch& g = g_;
+  // Indexed: blocks 0 … built − 1 and starts 0 … built (the loop above stops once the next start
+  // is d beyond p, or at n). Block k is taken while k < n, start − p < d, and it is no stop.
+  std::size_t lo = from, hi = std::max(from, g.built);  // the first k in [from, hi) failing, else hi
   while (lo < hi) {
     const std::size_t mid = lo + (hi - lo) / 2;
-    if (g.start[mid] - p < d) lo = mid + 1; else hi = mid;
+    if (start(mid) - p < d) lo = mid + 1; else hi = mid;
   }
   std::size_t end = lo;  // blocks [from, end) start within d, all indexed
   // The first exact stop at or after `from` ends the range too.
-  std::size_t a = 0, b = nstops_;
+  std::size_t a = 0, b = g.nstops;
   while (a < b) {
     const std::size_t mid = a + (b - a) / 2;
     if (g.stops[mid] < from) a = mid + 1; else b = mid;
   }
-  if (a < nstops_) end = std::min(end, g.stops[a]);
+  if (a < g.nstops) end = std::min(end, g.stops[a]);
   constexpr std::size_t G = GuardScratch::kGroup;
   std::size_t k = from;
   while (k < end && k % G != 0) j = std::min(j, g.jerk[k++]);
@@ -280,23 +289,20 @@ double JerkGuard::jerk_min(std::size_t from, double first, double p, double d, d
   return j;
 }
 
-double JerkGuard::acc(std::size_t k) const { return ring_.at(k).a_mm_s2 * scale_; }
+double JerkGuard::acc(std::size_t k) const { return need(k).acc[k]; }
 
-// A block without a jerk limit (Trapezoid profile, axes with j = 0) reaches its acceleration in one cycle.
-double JerkGuard::jerk(std::size_t k) const {
-  const Block& b = ring_.at(k);
-  return (std::isfinite(b.j_mm_s3) ? b.j_mm_s3 : b.a_mm_s2 / dt_) * scale_;
+double JerkGuard::jerk(std::size_t k) const { return need(k).jerk[k]; }
+
+double JerkGuard::soft(std::size_t k) const {
+  const double s = need(k).soft[k];
+  return k == 0 ? std::max(s, v_now_) : s;  // already faster (the override dropped): only the ramp down is asked
 }
 
-double JerkGuard::soft(std::size_t k) const { return soft_of(ring_.at(k), k); }
-
-double JerkGuard::soft_of(const Block& b, std::size_t k) const {
+double JerkGuard::soft_raw(const Block& b) const {
   if (halt_) return kInf;
   // v_split_mm_s: a block without a jerk limit keeps a_mm_s2 only up to there (Block).
-  double s = std::min(soft_speed(b, override_), b.v_split_mm_s);
-  if (!(s > 0)) return kInf;  // override 0: the ramp to the cruise speed 0 stops the path
-  if (k == 0) s = std::max(s, v_now_);  // already faster (the override dropped): only the ramp down is asked
-  return s;
+  const double s = std::min(soft_speed(b, override_), b.v_split_mm_s);
+  return s > 0 ? s : kInf;  // override 0: the ramp to the cruise speed 0 stops the path
 }
 
 bool JerkGuard::fail(GuardVerdict& v, bool hard, double at, double u, bool stop) const {
@@ -312,11 +318,9 @@ bool JerkGuard::fail(GuardVerdict& v, bool hard, double at, double u, bool stop)
 void JerkGuard::limits_until(double to_mm, double& a_min, double& j_min) const {
   a_min = acc(0);
   j_min = jerk(0);
-  double start = ring_.at(0).length - s_front_;
-  for (std::size_t k = 1; k < n_ && start < to_mm - kTouch_mm && ring_.at(k).v2_junction > 0; ++k) {
+  for (std::size_t k = 1; k < n_ && start(k) < to_mm - kTouch_mm && u2(k) > 0; ++k) {
     a_min = std::min(a_min, acc(k));
     j_min = std::min(j_min, jerk(k));
-    start += ring_.at(k).length;
   }
 }
 
@@ -328,20 +332,18 @@ bool JerkGuard::check(Cursor& c, double p0, double v0, const PathStep& st, Guard
   if (st.v_min < -kAbs) return fail(verdict, true, p0, 0, false);  // the path would reverse
   for (;;) {
     const std::size_t k = c.k;
-    const Block& b = ring_.at(k);
     const double here = std::max(p0, c.start);
-    if (over(st.j_abs, jerk(k)) || over(st.a_abs, acc(k)) || over(st.v_peak, b.v_split_mm_s))
-      return fail(verdict, true, here, b.v_split_mm_s, false);
+    if (over(st.j_abs, jerk(k)) || over(st.a_abs, acc(k)) || over(st.v_peak, hard(k)))
+      return fail(verdict, true, here, hard(k), false);
     if (over(st.v_peak, soft(k))) return fail(verdict, false, here, soft(k), false);
-    const double end = c.start + b.length;
+    const double end = start(k + 1);
     if (p1 < end - kTouch_mm) return true;  // the cycle ends inside block k
     const bool cross = p1 > end + kTouch_mm;
     if (k + 1 >= n_) {  // the end of the window (or of the horizon): a point to stop at
       if (cross || st.x.v > kAbs) return fail(verdict, true, end, 0, true);
       return true;
     }
-    const Block& nb = ring_.at(k + 1);
-    const double u = std::sqrt(nb.v2_junction);
+    const double u = std::sqrt(u2(k + 1));
     if (u <= 0) {  // an exact stop: reached at rest, never crossed
       if (cross || st.x.v > kAbs) return fail(verdict, true, end, 0, true);
     } else if (over(cross ? st.v_peak : st.x.v, u)) {
@@ -349,7 +351,7 @@ bool JerkGuard::check(Cursor& c, double p0, double v0, const PathStep& st, Guard
     }
     c = {k + 1, end};
     if (!cross) {  // lands on the start of k + 1: its limits hold from here
-      if (over(std::abs(st.x.a), acc(k + 1)) || over(st.x.v, nb.v_split_mm_s)) return fail(verdict, true, end, u, false);
+      if (over(std::abs(st.x.a), acc(k + 1)) || over(st.x.v, hard(k + 1))) return fail(verdict, true, end, u, false);
       if (over(st.x.v, soft(k + 1))) return fail(verdict, false, end, soft(k + 1), false);
       return true;
     }
@@ -373,17 +375,15 @@ PathStep JerkGuard::brake(const ProfileState& x, double p, const Cursor& c) cons
   const double v_up = x.a > 0 ? x.v + x.a * x.a / (2 * j_eff) : std::max(0.0, x.v);
   if (v_up > 0) {
     const double reach = v_up * dt_ + kTouch_mm;
-    const double first = c.start + ring_.at(c.k).length;  // start of block c.k + 1
     const double scan = std::max(reach, v_up * (std::abs(x.a) / j_eff + 2 * dt_));
-    double start = first;
-    for (std::size_t k = c.k + 1; k < n_ && start - p < scan && ring_.at(k).v2_junction > 0; ++k) {
-      if (start - p < reach) {
+    for (std::size_t k = c.k + 1; k < n_ && start(k) - p < scan && u2(k) > 0; ++k) {
+      const double at = start(k) - p;
+      if (at < reach) {
         a_eff = std::min(a_eff, acc(k));
         j_eff = std::min(j_eff, jerk(k));
       } else {
-        a_eff = std::min(a_eff, acc(k) + j_eff * std::max(0.0, (start - p) / v_up - 2 * dt_));
+        a_eff = std::min(a_eff, acc(k) + j_eff * std::max(0.0, at / v_up - 2 * dt_));
       }
-      start += ring_.at(k).length;
     }
     a_eff = std::max(a_eff, 1e-9);
     double horizon = reach;
@@ -392,7 +392,7 @@ PathStep JerkGuard::brake(const ProfileState& x, double p, const Cursor& c) cons
       const double d = ramp_end({0, x.v, a0, 0}, plan_ramp(x.v, a0, 0, a_eff, j_eff)).s +
                        v_up * (std::abs(x.a) / j_eff + 2 * dt_);
       if (!(d > horizon)) break;
-      const double j_new = jerk_min(c.k + 1, first, p, d, j_eff);
+      const double j_new = jerk_min(c.k + 1, p, d, j_eff);
       horizon = d;
       if (j_new == j_eff) break;
       j_eff = j_new;
@@ -419,23 +419,21 @@ bool JerkGuard::tail_safe(const ProfileState& x, double p, const Cursor& c) cons
   if (!(d_stop >= 0)) return false;
   const double entered = p + d_stop * (1 + 1e-9) + 1e-9;
   const double scanned = entered + v_up * (a0 / j0 + 2 * dt_) + kTouch_mm;
-  double start = c.start;
   for (std::size_t k = c.k; k < n_; ++k) {
-    const Block& b = ring_.at(k);
+    const double start = this->start(k);
     if (k > c.k) {
-      if (b.v2_junction <= 0) return start > entered + kTouch_mm;  // a stop: π's scans end here
+      if (u2(k) <= 0) return start > entered + kTouch_mm;  // a stop: π's scans end here
       if (start <= entered + kTouch_mm) {  // entered (or touched): the same limits, every cap ≥ v_up
-        if (acc(k) != a0 || jerk(k) != j0 || std::sqrt(b.v2_junction) < v_up) return false;
+        if (acc(k) != a0 || jerk(k) != j0 || std::sqrt(u2(k)) < v_up) return false;
       } else if (acc(k) < a0 || jerk(k) < j0) {
         return false;
       }
     }
-    if (start <= entered + kTouch_mm && (b.v_split_mm_s < v_up || soft(k) < v_up)) return false;
-    const double end = start + b.length;
+    if (start <= entered + kTouch_mm && (hard(k) < v_up || soft(k) < v_up)) return false;
+    const double end = this->start(k + 1);
     if (end > scanned) return end > entered + kTouch_mm;  // the rest of π ends inside this block
-    start = end;
   }
-  return start > entered + kTouch_mm;  // the window's end (a point to stop at) lies beyond the brake
+  return start(n_) > entered + kTouch_mm;  // the window's end (a point to stop at) lies beyond the brake
 }
 
 
@@ -483,8 +481,7 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   const auto scan = [&] { return (x.a > 0 ? x.v + x.a * x.a / (2 * j) : x.v) * (a / j + 2 * dt_) + kTouch_mm; };
   bool uniform = true;
   double stop_at = kInf;  // from p: the first exact stop or the window's end the walk meets
-  // Two cursors over the blocks after c.k (the index: g.start[k] is block k's start from now, the
-  // same number as c.start for k = c.k): `ks` scans (jerk, stops, uniformity) up to the ramp's
+  // Two cursors over the blocks after c.k: `ks` scans (jerk, stops, uniformity) up to the ramp's
   // reach plus π's scan; `ke` follows it over the blocks the ramp enters (acceleration). Each lower
   // limit lengthens the ramp, and both cursors go on from where they are.
   const GuardScratch& g = g_;
@@ -504,7 +501,7 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
     return at <= reach(d) + extra;
   };
   const auto enter = [&] {  // blocks ke < ks are indexed (the scan has read them)
-    for (; ke < ks && within(g.start[ke] - p, 0); ++ke) {
+    for (; ke < ks && within(start(ke) - p, 0); ++ke) {
       if (g.acc[ke] < a) {
         a = g.acc[ke];
         dirty = true;
@@ -515,7 +512,7 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
     enter();
     if (bad) return Cert::Unknown;
     index_through(ks);  // its start, and its limits when it is inside the window
-    const double ss = g.start[ks] - p;
+    const double ss = start(ks) - p;
     if (!within(ss, scan())) break;
     if (ks >= n_ || g.u2[ks] <= 0) {
       stop_at = ss;
@@ -543,7 +540,7 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   const double v_up2 = r.v_up * r.v_up * (1 + 1e-12);
   const double phase0_end = r.dur[0] > 0 ? reach(r.at[1].s) : -kInf;
   for (std::size_t k = c.k;;) {
-    const double start = g.start[k] - p;
+    const double start = this->start(k) - p;
     if (!(start <= reach(r.d_stop))) break;
     if (k > c.k && start >= stop_at) {  // an exact stop or the window's end: reached at rest, never crossed
       if (r.d_stop > start + kAbs) return broken(true, start, 0, true);
@@ -552,7 +549,7 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
     if (g.groups && k > c.k && k % G == 0 && k + G <= n_ && start >= kAbs && start > phase0_end) {
       index_through(k + G - 1);
       const std::size_t q = k / G;
-      if (g.group_u2[q] > v_up2 && g.group_cap[q] >= r.v_up && g.start[k + G - 1] - p < stop_at) {
+      if (g.group_u2[q] > v_up2 && g.group_cap[q] >= r.v_up && this->start(k + G - 1) - p < stop_at) {
         k += G;
         ++g_.groups_skipped;
         continue;
@@ -573,7 +570,7 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
     const double here = std::max(start, 0.0);
     const auto over_cap = [&](double cap) { return k == c.k ? r.v_up > cap : !clear(r.reach_speed(cap), start); };
     if (over_cap(g.hard[k])) return broken(true, here, g.hard[k], false);
-    if (over_cap(g.soft[k])) return broken(false, here, g.soft[k], false);
+    if (over_cap(soft(k))) return broken(false, here, soft(k), false);  // the front's relaxed to v_now
     ++k;
   }
   v.cert_a = a;
@@ -584,7 +581,7 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
 // rt-safe
 GuardVerdict JerkGuard::verify(const PathStep& step, const GuardMode& mode) const {
   GuardVerdict v;
-  Cursor c{0, -s_front_};
+  Cursor c{0, start(0)};
   if (!check(c, 0, v_now_, step, v) || v.failed()) return v;
   if (mode.certify) {
     const Cert r = certify(step.x, step.x.s, c, v);

@@ -71,25 +71,34 @@ struct GuardVerdict {
   bool failed() const { return !hard_ok || !soft_ok; }
 };
 
-// Per-cycle index of the window for the guard, sized once (Interpolator construction): from the
-// front, each block's start (distance from now), its limits as this cycle's guard sees them (scaled
+// Index of the window for the guard, sized once (Interpolator construction): from the front, each
+// block's start (distance from the front block's start), its limits as the guard sees them (scaled
 // acceleration and jerk, hard cap, soft cap under the override, junction speed²), the minima of
-// each group of 16, and the exact stops; filled lazily as far as a check looks. The certificate
-// walks the compact arrays instead of the 1.9 kB blocks, and where a whole group keeps every cap
-// and junction it skips the group in one step. brake() asks "the smallest jerk from block k while
-// a block starts within d of p" in every simulated cycle: a binary search and a few group minima.
-// Group skipping (groups = false: every block one by one, the reference) never changes an answer.
+// each group of 16, and the exact stops; filled lazily as far as a check looks, and kept from cycle
+// to cycle while it holds (JerkGuard's constructor): no block popped or cleared since
+// (Ring::changes), the same scale, halt, override and dt; when blocks were committed since, the old
+// back is indexed again (the commit after it may lower its jerk: Planner::commit).
+// Every check reads the blocks through it: the same starts everywhere, compact arrays instead of
+// the 1.9 kB blocks. The certificate skips a whole group where it keeps every cap and junction;
+// brake() asks "the smallest jerk from block k while a block starts within d of p" in every
+// simulated cycle: a binary search and a few group minima. Group answers (groups = false: block by
+// block, the reference) never change a verdict.
 struct GuardScratch {
   static constexpr std::size_t kGroup = 16;
   explicit GuardScratch(std::size_t blocks)
       : start(blocks + 1), jerk(blocks + 1), acc(blocks + 1), hard(blocks + 1), soft(blocks + 1), u2(blocks + 1),
         group_min(blocks / kGroup + 2), group_cap(blocks / kGroup + 2), group_u2(blocks / kGroup + 2),
         stops(blocks + 1) {}
-  std::vector<double> start, jerk, acc, hard, soft, u2;
-  std::vector<double> group_min, group_cap, group_u2;  // per group: least jerk, cap (hard or soft), u²
+  std::vector<double> start, jerk, acc, hard, soft, u2;  // soft: before relaxing the front's to v_now
+  std::vector<double> group_min, group_cap, group_u2;    // per group: least jerk, cap (hard or soft), u²
   std::vector<std::size_t> stops;
   bool groups = true;
   std::uint64_t groups_skipped = 0;  // by the certificate, since construction
+  // What the index was built for, and how far.
+  std::size_t built = 0, nstops = 0, size = 0;
+  std::uint64_t changes = ~std::uint64_t{0};
+  double scale = 0, feed_override = 0, dt = 0;
+  bool halt = false;
 };
 
 // How JerkGuard::verify reaches its verdict (InterpolatorConfig's guard_* keys).
@@ -114,14 +123,17 @@ class JerkGuard {
   // one ramp that provably keeps every limit, same verdict).
   GuardVerdict verify(const PathStep& step, const GuardMode& mode) const;
   // rt-safe. One cycle of π from the present state.
-  PathStep brake_now(const ProfileState& now) const { return brake({now.s, now.v, now.a, 0}, 0, Cursor{0, -s_front_}); }
+  PathStep brake_now(const ProfileState& now) const { return brake({now.s, now.v, now.a, 0}, 0, Cursor{0, start(0)}); }
   // rt-safe. One cycle of the certified ramp to rest with limits a, j from the present state.
   PathStep certified_brake(const ProfileState& now, double a, double j) const { return ramp_cycle(now, 0, a, j, dt_); }
   // Limits (scaled) of the blocks from the front up to distance `to_mm` from now.
   void limits_until(double to_mm, double& a_min, double& j_min) const;
 
+  // What the guard holds block k (< n) to: acceleration and jerk (scaled), the speed the feed and
+  // override ask for (the front's relaxed to the present speed), read from the index.
   double acc(std::size_t k) const;
   double jerk(std::size_t k) const;
+  double soft(std::size_t k) const;
 
  private:
   struct Cursor {
@@ -133,16 +145,26 @@ class JerkGuard {
   enum class Cert { Safe, Fails, Unknown };
   Cert certify(const ProfileState& x, double p, const Cursor& c, GuardVerdict& v) const;
   bool check(Cursor& c, double p0, double v0, const PathStep& st, GuardVerdict& verdict) const;
-  double soft(std::size_t k) const;
-  double soft_of(const Block& b, std::size_t k) const;  // soft(k) of block k = b
+  double soft_raw(const Block& b) const;  // soft(k) before the front's is relaxed to v_now
   bool fail(GuardVerdict& v, bool hard, double at, double u, bool stop) const;
   // min(j, jerk(k)) over k = from, from + 1, … while k < n, the block starts within d of p
-  // (start − p < d) and it is no exact stop: the walk, or the index when there is one.
-  double jerk_min_walk(std::size_t from, double first, double p, double d, double j) const;
-  double jerk_min(std::size_t from, double first, double p, double d, double j) const;
+  // (start − p < d) and it is no exact stop: block by block, or from the group minima.
+  double jerk_min_walk(std::size_t from, double p, double d, double j) const;
+  double jerk_min(std::size_t from, double p, double d, double j) const;
   void index_until(double p, double d) const;
   void index_through(std::size_t k) const;  // blocks 0 … min(k, n − 1) and their ends
   void index_block() const;                 // the next block
+  // Block k's start from now (k ≤ n), and its limits (k < n), read from the index.
+  double start(std::size_t k) const {
+    if (k > g_.built) index_through(k - 1);
+    return g_.start[k] - s_front_;
+  }
+  double hard(std::size_t k) const { return need(k).hard[k]; }
+  double u2(std::size_t k) const { return need(k).u2[k]; }
+  const GuardScratch& need(std::size_t k) const {
+    if (k >= g_.built) index_through(k);
+    return g_;
+  }
 
   const core::Ring<Block>& ring_;
   std::size_t n_;
@@ -150,8 +172,6 @@ class JerkGuard {
   bool halt_;
   double override_;
   GuardScratch& g_;
-  mutable std::size_t built_ = 0;  // blocks indexed (their starts and jerks), from the front
-  mutable std::size_t nstops_ = 0;
 };
 
 }  // namespace softmc::motion

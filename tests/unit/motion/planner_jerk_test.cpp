@@ -8,6 +8,7 @@
 #include <random>
 
 #include "motion/geometry/polyline_smoothing.hpp"
+#include "motion/interp/jerk_guard.hpp"
 #include "motion/profile/scurve.hpp"
 #include "planner_run.hpp"
 
@@ -445,4 +446,60 @@ TEST(PlannerJerk, ArcWithItsEndOffTheStartCircleReachesItsEndWithoutAJump) {
     expect_within(res, 1e-9, what.c_str());
     EXPECT_GT(res.fig.v_ratio, 0.999) << what;  // the limit is reached, not avoided
   }
+}
+
+// The guard keeps its index of the window from cycle to cycle (GuardScratch) while the blocks stay
+// where they are. It must follow every change a block can see: a commit lowers the jerk of the
+// block before it where the curvature jumps (line into a tangent arc: Planner::commit), blocks are
+// popped and cleared, the override and the stop scale change. After each, what the guard reads is
+// what the blocks say.
+TEST(PlannerJerk, GuardIndexFollowsTheWindow) {
+  const auto lim = jerk_limits(100, 1000, 20000);
+  Planner planner(lim, 64);
+  auto& ring = planner.queue().ring();
+  GuardScratch scratch(ring.capacity());
+  const auto expect_reads_blocks = [&](double scale, double feed_override, const char* when) {
+    if (ring.empty()) return;  // the first block is still pending
+    const JerkGuard guard(ring, ring.size(), 0, 0, lim.period_s, scale, false, feed_override, scratch);
+    for (std::size_t k = 0; k < ring.size(); ++k) {
+      const Block& b = ring.at(k);
+      const double j = std::isfinite(b.j_mm_s3) ? b.j_mm_s3 : b.a_mm_s2 / lim.period_s;
+      EXPECT_EQ(guard.jerk(k), j * scale) << when << ", block " << k;
+      EXPECT_EQ(guard.acc(k), b.a_mm_s2 * scale) << when << ", block " << k;
+      EXPECT_EQ(guard.soft(k), std::min(soft_speed(b, feed_override), b.v_split_mm_s)) << when << ", block " << k;
+    }
+    double a_min = 0, j_min = 0;
+    guard.limits_until(1e9, a_min, j_min);  // reads every block (and their starts) to the first stop
+    EXPECT_GT(j_min, 0) << when;
+  };
+  const std::vector<PathRequest> reqs{
+      line_req(xyz(0, 0), xyz(30, 0), 80, 0, 0.0),
+      arc_req(make_arc(xyz(30, 0), xyz(50, 20), 0, 1, 30, 20, 1), 80, 1),  // tangent: the curvature jumps
+      line_req(xyz(50, 20), xyz(50, 50), 80, 2, 0.0),
+      arc_req(make_arc(xyz(50, 50), xyz(30, 70), 0, 1, 30, 50, 1), 80, 3),
+      line_req(xyz(30, 70), xyz(0, 70), 80, 4, 0.0)};
+  bool lowered = false;  // a commit lowered the jerk of a block the guard had indexed
+  for (const auto& r : reqs) {
+    std::vector<double> before;
+    for (std::size_t k = 0; k < ring.size(); ++k) before.push_back(ring.at(k).j_mm_s3);
+    ASSERT_EQ(planner.push(r), PlanResult::Ok);
+    for (std::size_t k = 0; k < before.size(); ++k) lowered = lowered || ring.at(k).j_mm_s3 < before[k];
+    expect_reads_blocks(1.0, 1.0, "after a push");
+  }
+  planner.flush();
+  expect_reads_blocks(1.0, 1.0, "after the flush");
+  EXPECT_TRUE(lowered);
+  ring.pop();
+  expect_reads_blocks(1.0, 1.0, "after a pop");
+  ring.pop();
+  ASSERT_EQ(planner.push(line_req(xyz(0, 70), xyz(0, 0), 60, 5, 0.0)), PlanResult::Ok);
+  planner.flush();
+  expect_reads_blocks(1.0, 1.0, "after a pop and a push (as many blocks as before)");
+  expect_reads_blocks(0.5, 1.0, "with the emergency scale");
+  expect_reads_blocks(0.5, 0.3, "with another override");
+  const std::size_t size = ring.size();
+  planner.queue().clear();
+  for (std::uint32_t k = 0; ring.size() < size; ++k)  // another path, as many blocks
+    ASSERT_EQ(planner.push(line_req(xyz(k, k), xyz(k + 1, k + 1 + k % 2), 50, k, 0.0)), PlanResult::Ok);
+  expect_reads_blocks(1.0, 1.0, "after a clear and new pushes");
 }
