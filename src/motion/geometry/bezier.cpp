@@ -113,6 +113,12 @@ Segment make_cubic_bezier(const Vec& p0, const Vec& p1, const Vec& p2, const Vec
   return make_bezier(c).segment;
 }
 
+SegmentResult make_corner_blend(const Vec& corner, const Vec& t1, const Vec& t2, double d, double alpha, double beta) {
+  const std::array<Vec, 6> c{corner - t1 * d,          corner - t1 * (alpha * d), corner - t1 * (beta * d),
+                             corner + t2 * (beta * d), corner + t2 * (alpha * d), corner + t2 * d};
+  return make_bezier(c);
+}
+
 Segment g5_cubic_spline(const Vec& start, const Vec& end, double i, double j, double p, double q,
                         std::uint8_t axis0, std::uint8_t axis1) {
   // Off-plane axes: at 1/3 and 2/3 of the way, which makes them linear in u.

@@ -22,6 +22,19 @@ Segment make_cubic_bezier(const Vec& p0, const Vec& p1, const Vec& p2, const Vec
 // Rational Bézier: C(u) = Σ B_i w_i P_i / Σ B_i w_i, every weight finite and > 0.
 SegmentResult make_rational_bezier(std::span<const Vec> ctrl, std::span<const double> weights);
 
+// The curvature-continuous corner blend (the planner's in jerk mode): a quintic Bézier from
+// V − d·t1 to V + d·t2 (V the corner, t1, t2 unit directions in and out, 0 ≤ β < α < 1) whose
+// first three control points lie on the incoming line and last three on the outgoing one, so it
+// leaves and joins each line along it with zero curvature: no acceleration step at either end.
+//   P0 = V − d·t1, P1 = V − α·d·t1, P2 = V − β·d·t1, P3 = V + β·d·t2, P4 = V + α·d·t2, P5 = V + d·t2
+// rt-safe (bounded work, no allocation). Its midpoint lies corner_blend_dev(...) from V.
+SegmentResult make_corner_blend(const Vec& corner, const Vec& t1, const Vec& t2, double d, double alpha, double beta);
+// Distance of that blend's midpoint C(½) = V + (d/32)(1 + 5α + 10β)(t2 − t1) from V, the farthest
+// any point of it lies from the two lines (symmetric and convex, it is nearest V there).
+inline double corner_blend_dev(double chord, double d, double alpha, double beta) {
+  return d / 32 * (1 + 5 * alpha + 10 * beta) * chord;  // chord = |t2 − t1|
+}
+
 // Configuration time: appends the rational Bézier as one segment, or as consecutive halves (de
 // Casteljau at u = ½, recursively) while a piece's length table is not accurate to
 // kTableTolerance (near-cusps). Splines and NURBS build their segments with it.

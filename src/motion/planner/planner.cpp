@@ -7,7 +7,19 @@
 #include <limits>
 #include <numbers>
 
+#include "motion/geometry/bezier.hpp"
+
 namespace softmc::motion {
+
+namespace {
+// The quintic corner blend's shape for a deflection δ (make_corner_blend): the control-point
+// spacing (α, β) that, for a given distance of the midpoint from the corner, keeps the jerk term
+// v³(κ² + dκ/ds) lowest, fitted over δ = 0.35 … 2.8 rad (docs/planner.md, "Corner blends").
+void corner_blend_shape(double delta, double& alpha, double& beta) {
+  beta = std::min(0.9, 0.18 + 0.2 * std::max(0.0, delta - 1.0) + 0.35 * std::max(0.0, delta - 2.2));
+  alpha = 0.46 + 0.5 * beta;
+}
+}  // namespace
 
 namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -422,19 +434,58 @@ PlanResult Planner::plan(const PathRequest& req, double merge_dev_mm, std::uint3
           d = d_max;
           r = d / std::tan(h);
         }
+        const bool jerk = !(std::isinf(a.j_mm_s3) && std::isinf(b.j_mm_s3));
         if (d > kMinLength_mm && r > kMinLength_mm) {
-          const Vec corner = a.seg.end;
-          const Vec p1 = corner - a.seg.dir * d;
-          const Vec p2 = corner + b.seg.dir * d;
           blend.is_blend = true;
-          blend.blend = make_blend_arc(p1, a.seg.dir, b.seg.dir, r, delta);
+          blend.blend = make_blend_arc(a.seg.end - a.seg.dir * d, a.seg.dir, b.seg.dir, r, delta);
           blend.length = r * delta;
           const auto bl = blend_limits(blend.blend, limits_, config_.centripetal_share);
           blend.a_mm_s2 = bl.a_max_mm_s2;
           blend.v_cap_mm_s = bl.v_max_mm_s;
           blend.v_split_mm_s = bl.v_max_mm_s;
-          blend.j_mm_s3 = std::isinf(a.j_mm_s3) && std::isinf(b.j_mm_s3) ? kInf : bl.j_max_mm_s3;
+          blend.j_mm_s3 = jerk ? bl.j_max_mm_s3 : kInf;
           set_law(blend, [&] { return blend_law(blend.blend, limits_); });
+        }
+        if (jerk && delta >= config_.g2_blend_min_rad) {
+          // Jerk mode: the arc's curvature steps at both ends limit it to the speed at which one
+          // cycle's share of each axis's jerk takes the step (commit()); the curvature-continuous
+          // quintic (make_corner_blend, its midpoint `tol` from the corner as the arc's, its shape
+          // by the deflection) has no step but a higher peak curvature. It is taken
+          // where its corner speed is well above the arc's (g2_blend_gain: a Poly piece keeps less of
+          // the acceleration along the path than an arc, docs/planner.md, "Corner blends"); at most
+          // half of each line, as the arc.
+          double v_arc = blend.length > 0 ? blend.v_cap_mm_s : 0;
+          if (blend.length > 0) {
+            const Vec k0 = blend.blend.curvature(0);
+            for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
+              const double dk = std::abs(k0[i]);
+              if (dk < 1e-12 || !(limits_.axis[i].j_max_mm_s3 > 0)) continue;
+              v_arc = std::min(v_arc, std::sqrt(config_.kink_share * limits_.axis[i].j_max_mm_s3 * limits_.period_s / dk));
+            }
+          }
+          double alpha = 0, beta = 0;
+          corner_blend_shape(delta, alpha, beta);
+          const double dq = std::min(tol / corner_blend_dev(chord, 1.0, alpha, beta), d_max);
+          const SegmentResult q = dq > kMinLength_mm ? make_corner_blend(a.seg.end, a.seg.dir, b.seg.dir, dq, alpha, beta)
+                                                     : SegmentResult{CurveError::BadValue, {}};
+          const SegmentLimits ql = q.ok() ? segment_limits(q.segment, limits_, config_.centripetal_share) : SegmentLimits{};
+          if (q.ok() && ql.v_max_mm_s > config_.g2_blend_gain * v_arc && ql.a_max_mm_s2 > 0 &&
+              std::isfinite(ql.a_max_mm_s2)) {
+            blend = Block{};
+            blend.seg = q.segment;
+            blend.length = q.segment.length;
+            blend.a_mm_s2 = ql.a_max_mm_s2;
+            blend.v_cap_mm_s = ql.v_max_mm_s;
+            blend.v_split_mm_s = ql.v_max_mm_s;
+            blend.j_mm_s3 = ql.j_max_mm_s3;
+            set_law(blend, [&] { return segment_law(blend.seg, limits_); });
+            d = dq;
+          }
+        }
+        if (blend.length > 0) {
+          const Vec corner = a.seg.end;
+          const Vec p1 = corner - a.seg.dir * d;
+          const Vec p2 = corner + b.seg.dir * d;
           blend.rapid = a.rapid && b.rapid;
           blend.feed_mm_s = std::min(a.feed_mm_s, b.feed_mm_s);
           blend.tag = a.tag;

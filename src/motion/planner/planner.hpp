@@ -50,6 +50,12 @@ struct PlannerConfig {
   // it at load); 0 = off.
   double smoothing_max_turn_rad = 20 * 3.14159265358979323846 / 180;
   double smoothing_share = 0.9;
+  // Jerk mode: a corner between two lines turning at least this is blended by a curvature-continuous
+  // quintic (make_corner_blend) instead of a circular arc, whose curvature step at each end caps
+  // the corner at the speed one cycle's share of jerk allows (docs/planner.md, "Corner blends");
+  // below it the arc is as fast and cheaper to run. ∞: always arcs.
+  double g2_blend_min_rad = 0.1;
+  double g2_blend_gain = 1.5;  // ... where its speed cap is at least this times the arc's corner speed
 };
 
 enum class PlanResult : std::uint8_t { Ok, QueueFull, BadFeed, OutsideTravel, Infeasible };

@@ -196,3 +196,36 @@ TEST(GeometryBezier, T2_CuspIsHalvedAndStillMeasuredExactly) {
   const auto one = make_cubic_bezier(p[0], p[1], p[2], p[3]);
   EXPECT_GT(std::abs(one.length / ref - 1), 1e-9);
 }
+
+// The planner's curvature-continuous corner blend (jerk mode): from V − d·t1 to V + d·t2, leaving
+// and joining each line along it with zero curvature, its midpoint corner_blend_dev from V, and no
+// point of it farther than that from the two lines, for gentle to sharp corners in 3-D.
+TEST(GeometryBezier, CornerBlendLeavesAndJoinsTheLinesWithZeroCurvature) {
+  for (const double delta : {0.1, 0.5, 1.0, std::numbers::pi / 2, 2.2, 2.8}) {
+    const core::Vec corner = xy(3, -2, 1);
+    core::Vec t1 = xy(1, 0, 0.2), t2 = xy(std::cos(delta), std::sin(delta), 0.2 * std::cos(delta) - 0.3);
+    t1 = t1 * (1 / core::norm(t1));
+    t2 = t2 * (1 / core::norm(t2));
+    const double d = 0.4, alpha = 0.6, beta = 0.25;
+    const auto r = make_corner_blend(corner, t1, t2, d, alpha, beta);
+    ASSERT_TRUE(r.ok());
+    const Segment& s = r.segment;
+    EXPECT_EQ(s.start, corner - t1 * d);
+    EXPECT_EQ(s.end, corner + t2 * d);
+    EXPECT_LT(core::norm(s.tangent(0) - t1), 1e-12) << delta;
+    EXPECT_LT(core::norm(s.tangent(s.length) - t2), 1e-12) << delta;
+    EXPECT_LT(core::norm(s.curvature(0)), 1e-9) << delta;  // no acceleration step onto or off the lines
+    EXPECT_LT(core::norm(s.curvature(s.length)), 1e-9) << delta;
+    EXPECT_GT(core::norm(s.curvature(s.length / 2)), 0.1) << delta;
+    const double dev = corner_blend_dev(core::norm(t2 - t1), d, alpha, beta);
+    EXPECT_NEAR(core::distance(s.point(s.length / 2), corner), dev, 1e-12) << delta;
+    const Segment in = make_line(corner - t1 * 10, corner), out = make_line(corner, corner + t2 * 10);
+    double far = 0;
+    for (int k = 0; k <= 1000; ++k) {
+      const core::Vec p = s.point(s.length * k / 1000);
+      far = std::max(far, std::min(in.distance_to(p), out.distance_to(p)));
+    }
+    EXPECT_LE(far, dev + 1e-12) << delta;
+    EXPECT_GT(far, 0.5 * dev * std::cos(delta / 2)) << delta;  // it does cut the corner
+  }
+}
