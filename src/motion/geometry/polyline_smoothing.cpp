@@ -26,6 +26,34 @@ double turn(const Vec& a, const Vec& b, const Vec& c) {
   return 2 * std::asin(std::min(1.0, chord / 2));
 }
 
+// Appends the cubic piece c, or its two halves (de Casteljau at ½: the same curve, split exactly),
+// each again split while that pays: the planner gives each piece one speed cap, from the piece's
+// largest curvature κ and jerk term κ² + |dκ/ds|, so a long piece whose bend is all at one end
+// (a long line meeting short ones) would crawl along its whole length at the cap of its end. A
+// split is kept when one half has under a quarter of the whole's κ² + |dκ/ds| or under 0.4 of its
+// κ (a cap at least 1.6 times higher, whatever the machine), down to pieces of min_length.
+void append_piece(std::vector<Segment>& out, const std::array<Vec, 4>& c, const PolylineSmoothing& cfg, int depth,
+                  const Segment* built = nullptr) {
+  const Segment whole = built ? *built : make_cubic_bezier(c[0], c[1], c[2], c[3]);
+  if (depth >= cfg.split_depth || !(whole.length > 2 * cfg.split_min_length_mm)) {
+    out.push_back(whole);
+    return;
+  }
+  const Vec m01 = (c[0] + c[1]) * 0.5, m12 = (c[1] + c[2]) * 0.5, m23 = (c[2] + c[3]) * 0.5;
+  const Vec l2 = (m01 + m12) * 0.5, r1 = (m12 + m23) * 0.5, mid = (l2 + r1) * 0.5;
+  const std::array<Vec, 4> lc{c[0], m01, l2, mid}, rc{mid, r1, m23, c[3]};
+  const Segment left = make_cubic_bezier(lc[0], lc[1], lc[2], lc[3]);
+  const Segment right = make_cubic_bezier(rc[0], rc[1], rc[2], rc[3]);
+  const auto k3 = [](const Segment& g) { return g.poly.max_curvature * g.poly.max_curvature + g.poly.max_dcurvature; };
+  const double k3_low = std::min(k3(left), k3(right)), k_low = std::min(left.poly.max_curvature, right.poly.max_curvature);
+  if (!(k3_low < 0.25 * k3(whole)) && !(k_low < 0.4 * whole.poly.max_curvature)) {
+    out.push_back(whole);
+    return;
+  }
+  append_piece(out, lc, cfg, depth + 1, &left);
+  append_piece(out, rc, cfg, depth + 1, &right);
+}
+
 // The run of lines [a, b) of pts as B-spline pieces: true and `lines` filled when every piece stays
 // within the tolerance; otherwise false with `bad` = the line whose piece leaves it.
 bool build_run(std::span<const Vec> pts, std::size_t a, std::size_t b, int passes, const PolylineSmoothing& cfg,
@@ -90,7 +118,7 @@ bool build_run(std::span<const Vec> pts, std::size_t a, std::size_t b, int passe
   lines[a].push_back(first);
   for (std::size_t i = a; i < b; ++i) {
     const auto c4 = ctrl(i - a);
-    lines[i].push_back(make_cubic_bezier(c4[0], c4[1], c4[2], c4[3]));
+    append_piece(lines[i], c4, cfg, 0);
   }
   lines[b - 1].push_back(last);
   return true;

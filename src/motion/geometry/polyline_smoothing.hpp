@@ -29,6 +29,11 @@ struct PolylineSmoothing {
   double min_length_mm = 1e-6;  // shorter lines end a run
   int filter_passes = 8;        // low-pass passes over the points before the spline (fewer if P is left)
   std::size_t max_run_lines = 1000;  // a longer run is cut there (bounds the work and the splitting depth)
+  // A piece is split in halves (exactly, the same curve) where one half bends much less than the
+  // whole, so that the planner's per-piece speed cap does not hold along all of it: down to pieces
+  // of split_min_length_mm, split_depth halvings at most; depth 0 = never.
+  double split_min_length_mm = 0.25;
+  int split_depth = 4;
 };
 
 // For the polyline pts[0..n] (n lines): `lines[i]` receives the segments that replace line i
