@@ -58,7 +58,7 @@ void curve_jerk_acc(SegmentLimits& l, double j_axis, double amp_n, double kappa,
 }  // namespace
 
 // rt-safe
-SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double cn) {
+SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double cn, double v_target) {
   const double ct = std::sqrt(std::max(0.0, 1 - cn * cn));
   SegmentLimits l{kInf, kInf, kInf};
   double& v = l.v_max_mm_s;
@@ -98,21 +98,30 @@ SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double 
     // Poly (Bézier, NURBS, splines): per-axis largest tangent share and the largest curvature, both
     // sampled at construction. The tangent and normal of a general curve are not one phase apart as
     // on a circle, so the shares add: a_t·t_i ≤ (1 − cn)·a and κv² ≤ cn·a.
+    // A piece whose curvature would let it go faster than it will ever be asked to (v_target: the
+    // feed at the highest override, under the axes' speeds) keeps of cn, and of the curvature's
+    // jerk share, only what that speed needs, and gives the rest to the tangential acceleration
+    // and jerk: its cap is then that speed, which nothing asks to exceed.
     const Vec tmax = g.max_abs_tangent();
     const double kappa = g.max_curvature();
+    const double k3 = kappa * kappa + g.poly.max_dcurvature;
+    double vt = v_target;
+    for (std::size_t i = 0; i < core::kMaxAxes; ++i)
+      if (tmax[i] >= 1e-12) vt = std::min(vt, lim.axis[i].v_max_mm_s / tmax[i]);
     for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
       const double d = tmax[i];
       if (d < 1e-12) continue;
       const auto& ax = lim.axis[i];
       v = std::min(v, ax.v_max_mm_s / d);
-      a = std::min(a, (1 - cn) * ax.a_max_mm_s2 / d);
-      if (kappa > 0) v = std::min(v, std::sqrt(cn * ax.a_max_mm_s2 / kappa));
+      const double cn_i = std::isfinite(vt) ? std::min(cn, kappa * vt * vt / ax.a_max_mm_s2) : cn;
+      a = std::min(a, (1 - cn_i) * ax.a_max_mm_s2 / d);
+      if (kappa > 0) v = std::min(v, std::sqrt(cn_i * ax.a_max_mm_s2 / kappa));
       // Jerk: j_t·T_i gets half of j_max; v³κ²·T_i + v³·dκ/ds·N_i ≤ v³(κ² + κ') shares three eighths
       // (one budget: the two speed terms of one curve, whichever dominates), 3·v·a_t·κ the last eighth.
       if (ax.j_max_mm_s3 > 0) {
-        l.j_max_mm_s3 = std::min(l.j_max_mm_s3, 0.5 * ax.j_max_mm_s3 / d);
-        const double k3 = kappa * kappa + g.poly.max_dcurvature;
-        if (k3 > 0) v = std::min(v, std::cbrt(0.375 * ax.j_max_mm_s3 / k3));
+        const double sk = std::isfinite(vt) ? std::min(0.375, vt * vt * vt * k3 / ax.j_max_mm_s3) : 0.375;
+        l.j_max_mm_s3 = std::min(l.j_max_mm_s3, (0.875 - sk) * ax.j_max_mm_s3 / d);
+        if (k3 > 0) v = std::min(v, std::cbrt(sk * ax.j_max_mm_s3 / k3));
       }
     }
     for (std::size_t i = 0; i < core::kMaxAxes; ++i)
@@ -389,7 +398,7 @@ void Planner::set_law(Block& b, const MakeLaw& make_law) const {
 
 // rt-safe. Plans a validated move in: blend with the pending block, commit, hold the new one pending.
 PlanResult Planner::plan(const PathRequest& req, double merge_dev_mm, std::uint32_t tag_last) {
-  const auto sl = segment_limits(req.geom, limits_, config_.centripetal_share);
+  const auto sl = segment_limits(req.geom, limits_, config_.centripetal_share, target_speed(req.rapid, req.feed_mm_s));
   if (!std::isfinite(sl.v_max_mm_s) || !std::isfinite(sl.a_max_mm_s2) || !(sl.v_max_mm_s > 0) ||
       !(sl.a_max_mm_s2 > 0))
     return PlanResult::Infeasible;
@@ -468,7 +477,8 @@ PlanResult Planner::plan(const PathRequest& req, double merge_dev_mm, std::uint3
           const double dq = std::min(tol / corner_blend_dev(chord, 1.0, alpha, beta), d_max);
           const SegmentResult q = dq > kMinLength_mm ? make_corner_blend(a.seg.end, a.seg.dir, b.seg.dir, dq, alpha, beta)
                                                      : SegmentResult{CurveError::BadValue, {}};
-          const SegmentLimits ql = q.ok() ? segment_limits(q.segment, limits_, config_.centripetal_share) : SegmentLimits{};
+          const double vq = target_speed(a.rapid && b.rapid, std::min(a.feed_mm_s, b.feed_mm_s));
+          const SegmentLimits ql = q.ok() ? segment_limits(q.segment, limits_, config_.centripetal_share, vq) : SegmentLimits{};
           if (q.ok() && ql.v_max_mm_s > config_.g2_blend_gain * v_arc && ql.a_max_mm_s2 > 0 &&
               std::isfinite(ql.a_max_mm_s2)) {
             blend = Block{};

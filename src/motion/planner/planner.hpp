@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 
 #include "motion/geometry/segment.hpp"
 #include "motion/limits.hpp"
@@ -67,7 +68,10 @@ struct SegmentLimits {
   double a_max_mm_s2 = 0;
   double j_max_mm_s3 = 0;  // path jerk; infinite when no axis of the segment has a jerk limit
 };
-SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double centripetal_share = 0.8);
+// v_target: the fastest the segment will be asked to go (feed × the highest override; ∞ unknown):
+// a Poly piece that could go faster trades the centripetal share it does not need for acceleration.
+SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double centripetal_share = 0.8,
+                             double v_target = std::numeric_limits<double>::infinity());
 SegmentLimits blend_limits(const BlendArc& b, const MachineLimits& lim, double centripetal_share = 0.8);
 
 // Trapezoid blocks (no jerk limit) use the speed-dependent law instead of the fixed split
@@ -105,6 +109,10 @@ class Planner {
   PlanResult emit_stage();
   void commit(const Block& b);
   void kink(Block& a, Block& b) const;
+  // The fastest a move is asked to go: its feed at the highest override (∞ for rapids: the axes').
+  double target_speed(bool rapid, double feed_mm_s) const {
+    return rapid ? std::numeric_limits<double>::infinity() : feed_mm_s * config_.max_feed_override;
+  }
   template <class MakeLaw>
   void set_law(Block& b, const MakeLaw& make_law) const;
 

@@ -22,6 +22,30 @@ TEST(PlannerPoly, LimitsComeFromTheCurveNotTheArcBranch) {
   EXPECT_TRUE(std::isfinite(sl.a_max_mm_s2));
 }
 
+// A piece that could go faster than its feed at the highest override ever asks (v_target) keeps only
+// the centripetal and curvature-jerk shares that speed needs: its cap is that speed, and the rest goes
+// to the acceleration and jerk along the path (the planner passes feed × max_feed_override). A
+// target above what the curve allows changes nothing.
+TEST(PlannerPoly, AGentleCurveTradesTheCentripetalShareItDoesNotNeed) {
+  auto lim = xyz_limits(100, 1000);
+  for (int i = 0; i < 3; ++i) lim.axis[i].j_max_mm_s3 = 10000;
+  const Segment s = make_cubic_bezier(xyz(0, 0), xyz(10, 1), xyz(20, -1), xyz(30, 0));
+  const auto full = segment_limits(s, lim);
+  ASSERT_GT(full.v_max_mm_s, 40);
+  const auto sl = segment_limits(s, lim, 0.8, 30);
+  EXPECT_NEAR(sl.v_max_mm_s, 30, 1e-9);
+  const double k = s.max_curvature(), t = s.max_abs_tangent()[0];
+  EXPECT_NEAR(sl.a_max_mm_s2, std::min((1 - k * 30 * 30 / 1000) * 1000 / t, 0.125 * 10000 / (3 * 30 * k)), 1e-9);
+  EXPECT_GT(sl.a_max_mm_s2, 1.5 * full.a_max_mm_s2);
+  const double sk = 30.0 * 30 * 30 * (k * k + s.poly.max_dcurvature) / 10000;
+  EXPECT_NEAR(sl.j_max_mm_s3, (0.875 - sk) * 10000 / t, 1e-6);
+  EXPECT_GT(sl.j_max_mm_s3, 1.2 * full.j_max_mm_s3);
+  const auto high = segment_limits(s, lim, 0.8, 1e6);
+  EXPECT_EQ(high.v_max_mm_s, full.v_max_mm_s);
+  EXPECT_EQ(high.a_max_mm_s2, full.a_max_mm_s2);
+  EXPECT_EQ(high.j_max_mm_s3, full.j_max_mm_s3);
+}
+
 TEST(PlannerPoly, RandomBezierChainsKeepEveryLimit) {
   // Tame pieces (no loops or cusps, where the geometry's own length table is coarser): the control
   // points lie ahead along the chord, offset sideways by less than the chord.
