@@ -11,31 +11,32 @@ namespace softmc::core {
 template <class T>
 class Ring {
  public:
-  explicit Ring(std::size_t capacity = 0) : buf_(capacity) {}
+  explicit Ring(std::size_t capacity = 0) : buf_(capacity), cap_(capacity) {}
 
   // Configuration time only: allocates.
   void reserve(std::size_t capacity) {
     buf_.assign(capacity, T{});
+    cap_ = capacity;
     head_ = size_ = 0;
     ++changes_;
   }
 
-  std::size_t capacity() const { return buf_.size(); }
+  std::size_t capacity() const { return cap_; }
   std::size_t size() const { return size_; }
   bool empty() const { return size_ == 0; }
-  bool full() const { return size_ == buf_.size(); }
+  bool full() const { return size_ == cap_; }
 
   // rt-safe
   bool push(const T& x) {
     if (full()) return false;
-    buf_[(head_ + size_) % buf_.size()] = x;
+    buf_[slot(size_)] = x;
     ++size_;
     return true;
   }
   // rt-safe
   void pop() {
     assert(size_ > 0);
-    head_ = (head_ + 1) % buf_.size();
+    head_ = slot(1);
     --size_;
     ++changes_;
   }
@@ -56,11 +57,12 @@ class Ring {
 
  private:
   std::size_t slot(std::size_t i) const {
-    assert(i < buf_.size());
+    assert(i < cap_ || (i == 1 && cap_ == 1));
     const std::size_t j = head_ + i;
-    return j >= buf_.size() ? j - buf_.size() : j;
+    return j >= cap_ ? j - cap_ : j;
   }
   std::vector<T> buf_;
+  std::size_t cap_ = 0;  // buf_.size(), kept: the vector's size is a division by sizeof(T)
   std::size_t head_ = 0;
   std::size_t size_ = 0;
   std::uint64_t changes_ = 0;
