@@ -42,9 +42,9 @@ struct InterpolatorConfig {
   // Jerk mode: the guard ends its brake simulation where the rest is one closed-form ramp that keeps
   // every limit (same verdicts, bit-identical setpoints); false simulates to rest (tests, benchmarks).
   bool guard_closed_form = true;
-  // Jerk mode: the guard answers its brake's range queries from the group minima of its per-cycle
-  // index of the window, and its certificate skips groups that keep every cap (same answers as
-  // taking the blocks one by one; false takes them one by one: tests, benchmarks).
+  // Jerk mode: the guard answers its brake's range queries from the group minima of its index of
+  // the window, and its certificate skips groups that keep every cap (same answers as taking the
+  // blocks one by one; false takes them one by one: tests, benchmarks).
   bool guard_index = true;
   // Jerk mode: the guard first tries its certificate, the closed-form ramp to rest with the smallest
   // limits it meets (jerk_guard.hpp), and simulates its brake π only where that cannot decide: with
@@ -113,7 +113,7 @@ class Interpolator {
 
   PlanQueue& queue_;
   InterpolatorConfig config_;
-  GuardScratch scratch_;  // the jerk guard's per-cycle index, sized for the whole window
+  GuardScratch scratch_;  // the jerk guard's index of the window, kept between cycles, sized once
   Setpoint sp_;
   bool started_ = false;  // the front block has begun
   VelocityRamp ramp_;
