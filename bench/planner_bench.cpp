@@ -59,6 +59,33 @@ static void BM_PlanLines(benchmark::State& state) {
 }
 BENCHMARK(BM_PlanLines)->Arg(256)->Arg(10'000);
 
+// Planning a zig-zag of 5 mm lines turning 60° at every corner on a jerk-limited machine: each
+// corner gets a quintic blend (Planner "Corner blends": its arc-length table and sampled limits are
+// built in push) where the arc would get a curvature step.
+static void BM_PlanCornersJerk(benchmark::State& state) {
+  auto lim = xyz();
+  for (int i : {0, 1, 2}) lim.axis[static_cast<std::size_t>(i)].j_max_mm_s3 = 10'000;
+  std::vector<motion::PathRequest> reqs;
+  core::Vec at{};
+  for (int k = 0; k < 64; ++k) {
+    const double a = (k % 2 ? 1 : -1) * 3.141592653589793 / 6;
+    core::Vec to = at;
+    to[0] += 5 * std::cos(a);
+    to[1] += 5 * std::sin(a);
+    reqs.push_back({motion::make_line(at, to), 100, false, static_cast<std::uint32_t>(k)});
+    at = to;
+  }
+  motion::Planner planner(lim, 256);
+  std::size_t k = 0;
+  for (auto _ : state) {
+    while (planner.queue().full()) planner.queue().ring().pop();
+    if (k % reqs.size() == 0) planner.queue().clear();  // start the zig-zag again from its first point
+    benchmark::DoNotOptimize(planner.push(reqs[k++ % reqs.size()]));
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()));
+}
+BENCHMARK(BM_PlanCornersJerk);
+
 // One interpolation cycle over the blended polyline (4 axes), refilled outside the timing.
 static void BM_LookaheadCycle4Axes(benchmark::State& state) {
   const auto reqs = polyline(0.05);

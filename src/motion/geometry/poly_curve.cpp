@@ -48,6 +48,34 @@ CurveDerivs bezier_derivs(const PolyCurve::BezierData& b, std::size_t n, double 
     }
     return d;
   }
+  bool polynomial = n >= 1;
+  for (std::size_t i = 0; polynomial && i <= n; ++i) polynomial = b.w[i] == 1;
+  if (polynomial) {
+    // Any other polynomial degree (the planner's quintic corner blends, G5.1, G5.2): the same de
+    // Casteljau levels, axis by axis on scalars, with no rational quotient and no Vec temporaries.
+    const double v = 1 - u, nn = static_cast<double>(n * (n - 1)), n1 = static_cast<double>(n);
+    CurveDerivs d;
+    for (std::size_t a = 0; a < core::kMaxAxes; ++a) {
+      bool moves = false;
+      for (std::size_t i = 1; i <= n; ++i) moves = moves || b.hctrl[i][a] != b.hctrl[0][a];
+      if (!moves) {  // an axis the curve does not move (most of nine): no derivative
+        d.c[a] = b.hctrl[0][a];
+        continue;
+      }
+      std::array<double, kMaxBezierDegree + 1> q;
+      for (std::size_t i = 0; i <= n; ++i) q[i] = b.hctrl[i][a];
+      for (std::size_t lvl = n; lvl > 2; --lvl)
+        for (std::size_t i = 0; i < lvl; ++i) q[i] = q[i] * v + q[i + 1] * u;
+      if (n >= 2) {
+        d.d2[a] = (q[2] - 2 * q[1] + q[0]) * nn;
+        q[0] = q[0] * v + q[1] * u;
+        q[1] = q[1] * v + q[2] * u;
+      }
+      d.d1[a] = (q[1] - q[0]) * n1;
+      d.c[a] = q[0] * v + q[1] * u;
+    }
+    return d;
+  }
   std::array<Vec, kMaxBezierDegree + 1> p = b.hctrl;
   std::array<double, kMaxBezierDegree + 1> w = b.w;
   const double v = 1 - u;
@@ -316,9 +344,9 @@ double PolyCurve::finalize() {
   max_abs_tangent = Vec{};
   max_curvature = 0;
   max_dcurvature = 0;
-  // Polynomial cubics (splines, G5, smoothed CAM runs, by far the most built) vary slowly enough
-  // for 256; rational pieces (NURBS) keep 1024.
-  bool polynomial = basis == PolyBasis::Bezier && degree <= 3;
+  // Polynomial pieces (splines, G5, smoothed CAM runs, quintic corner blends: by far the most
+  // built) vary slowly enough for 256; rational pieces (NURBS) keep 1024.
+  bool polynomial = basis == PolyBasis::Bezier;
   for (std::size_t i = 0; polynomial && i <= degree; ++i) polynomial = bez.w[i] == 1;
   const int kSamples = polynomial ? 256 : 1024;
   Vec k_prev;

@@ -475,9 +475,13 @@ PlanResult Planner::plan(const PathRequest& req, double merge_dev_mm, std::uint3
           double alpha = 0, beta = 0;
           corner_blend_shape(delta, alpha, beta);
           const double dq = std::min(tol / corner_blend_dev(chord, 1.0, alpha, beta), d_max);
-          const SegmentResult q = dq > kMinLength_mm ? make_corner_blend(a.seg.end, a.seg.dir, b.seg.dir, dq, alpha, beta)
-                                                     : SegmentResult{CurveError::BadValue, {}};
+          // Its cap never exceeds the target speed: where the arc is already that fast within the
+          // gain, the quintic (tens of µs to build: its length table and sampled limits) is not.
           const double vq = target_speed(a.rapid && b.rapid, std::min(a.feed_mm_s, b.feed_mm_s));
+          const bool worth = !(config_.g2_blend_gain * v_arc >= vq);
+          const SegmentResult q = worth && dq > kMinLength_mm
+                                      ? make_corner_blend(a.seg.end, a.seg.dir, b.seg.dir, dq, alpha, beta)
+                                      : SegmentResult{CurveError::BadValue, {}};
           const SegmentLimits ql = q.ok() ? segment_limits(q.segment, limits_, config_.centripetal_share, vq) : SegmentLimits{};
           if (q.ok() && ql.v_max_mm_s > config_.g2_blend_gain * v_arc && ql.a_max_mm_s2 > 0 &&
               std::isfinite(ql.a_max_mm_s2)) {
