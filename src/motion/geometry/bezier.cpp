@@ -30,8 +30,9 @@ bool finite(const Vec& v) {
 }  // namespace
 
 namespace {
-// The segment and the estimated error of its length table.
-SegmentResult build(std::span<const Vec> ctrl, std::span<const double> weights, double& table_error) {
+// The segment and (estimate) the estimated error of its length table.
+SegmentResult build(std::span<const Vec> ctrl, std::span<const double> weights, double& table_error,
+                    bool estimate) {
   SegmentResult r;
   if (ctrl.size() < 2) return {CurveError::TooFewPoints, {}};
   if (ctrl.size() > kMaxBezierDegree + 1) return {CurveError::BadDegree, {}};
@@ -48,7 +49,7 @@ SegmentResult build(std::span<const Vec> ctrl, std::span<const double> weights, 
     s.poly.bez.hctrl[i] = ctrl[i] * weights[i];
     s.poly.bez.w[i] = weights[i];
   }
-  table_error = s.poly.finalize();
+  table_error = s.poly.finalize(estimate);
   s.start = ctrl.front();  // the end points are interpolated exactly
   s.end = ctrl.back();
   s.length = s.poly.length();
@@ -60,13 +61,13 @@ constexpr int kMaxSplitDepth = 10;
 
 SegmentResult make_rational_bezier(std::span<const Vec> ctrl, std::span<const double> weights) {
   double err = 0;
-  return build(ctrl, weights, err);
+  return build(ctrl, weights, err, false);  // not split: its table's error estimate is not needed
 }
 
 CurveError append_rational_bezier(std::vector<Segment>& out, std::span<const Vec> ctrl, std::span<const double> weights,
                                   int depth) {
   double err = 0;
-  SegmentResult r = build(ctrl, weights, err);
+  SegmentResult r = build(ctrl, weights, err, true);
   if (!r.ok()) return r.error;
   if (!(err > kTableTolerance * r.segment.length) || depth >= kMaxSplitDepth) {
     out.push_back(r.segment);

@@ -307,14 +307,14 @@ Vec curvature_vector(const CurveDerivs& d) {
   return (d.d2 - t * core::dot(d.d2, t)) * (1.0 / sp2);
 }
 
-double PolyCurve::finalize() {
+double PolyCurve::finalize(bool estimate) {
   s_at[0] = 0;
   double err = 0;
   const SpeedEval speed_at(*this);
   for (std::size_t k = 0; k < kArcTableIntervals; ++k) {
     const double a = k * kH, b = (k + 1) * kH, m = 0.5 * (a + b);
     const double whole = gl16(speed_at, a, b);
-    err += std::abs(whole - (gl16(speed_at, a, m) + gl16(speed_at, m, b)));
+    if (estimate) err += std::abs(whole - (gl16(speed_at, a, m) + gl16(speed_at, m, b)));
     s_at[k + 1] = s_at[k] + whole;
   }
 
@@ -349,18 +349,55 @@ double PolyCurve::finalize() {
   bool polynomial = basis == PolyBasis::Bezier;
   for (std::size_t i = 0; polynomial && i <= degree; ++i) polynomial = bez.w[i] == 1;
   const int kSamples = polynomial ? 256 : 1024;
-  Vec k_prev;
+  // The axes the curve moves: the others have no derivative, so the samples work on these only
+  // (the same sums in the same order as over all nine: the others add zeros).
+  std::array<std::size_t, core::kMaxAxes> ax{};
+  std::size_t m = 0;
+  for (std::size_t a = 0; a < core::kMaxAxes; ++a) {
+    bool moves = basis == PolyBasis::NewtonGraph && (a == newton.x_axis || a == newton.y_axis);
+    for (std::size_t i = 1; basis == PolyBasis::Bezier && i <= degree; ++i)
+      moves = moves || bez.hctrl[i][a] * bez.w[0] != bez.hctrl[0][a] * bez.w[i];
+    if (moves) ax[m++] = a;
+  }
+  std::array<double, core::kMaxAxes> k{}, k_prev{};
   double sp_prev = 0;
   for (int i = 0; i <= kSamples; ++i) {
     const CurveDerivs d = derivs(static_cast<double>(i) / kSamples);
-    const Vec t = unit_tangent(d);
-    for (std::size_t a = 0; a < core::kMaxAxes; ++a) max_abs_tangent[a] = std::max(max_abs_tangent[a], std::abs(t[a]));
-    const Vec k = curvature_vector(d);
-    max_curvature = std::max(max_curvature, core::norm(k));
+    double sp2 = 0, acc2 = 0;
+    for (std::size_t j = 0; j < m; ++j) {
+      sp2 += d.d1[ax[j]] * d.d1[ax[j]];
+      acc2 += d.d2[ax[j]] * d.d2[ax[j]];
+    }
+    const double sp = std::sqrt(sp2);
+    // |T_i| as unit_tangent gives it (a stationary point: the direction of C'').
+    const double ta = std::sqrt(acc2);
+    for (std::size_t j = 0; j < m; ++j) {
+      const std::size_t a = ax[j];
+      const double t = sp > 1e-300 ? d.d1[a] * (1.0 / sp) : (ta > 0 ? d.d2[a] * (1.0 / ta) : 0.0);
+      max_abs_tangent[a] = std::max(max_abs_tangent[a], std::abs(t));
+    }
+    // The curvature vector as curvature_vector gives it: (C'' − (C''·T)T) / |C'|².
+    double k2 = 0, dk2 = 0;
+    if (sp2 > 1e-300) {
+      const double inv = 1.0 / std::sqrt(sp2);
+      double along = 0;
+      for (std::size_t j = 0; j < m; ++j) along += d.d2[ax[j]] * (d.d1[ax[j]] * inv);
+      for (std::size_t j = 0; j < m; ++j) {
+        const std::size_t a = ax[j];
+        k[a] = (d.d2[a] - d.d1[a] * inv * along) * (1.0 / sp2);
+      }
+    } else {
+      for (std::size_t j = 0; j < m; ++j) k[ax[j]] = 0;
+    }
+    for (std::size_t j = 0; j < m; ++j) {
+      const std::size_t a = ax[j];
+      k2 += k[a] * k[a];
+      dk2 += (k[a] - k_prev[a]) * (k[a] - k_prev[a]);
+    }
+    max_curvature = std::max(max_curvature, std::sqrt(k2));
     // dκ/ds between samples: Δκ over the arc length between them (trapezoid rule on |C'|).
-    const double sp = std::sqrt(core::dot(d.d1, d.d1));
     const double ds = 0.5 * (sp + sp_prev) / kSamples;
-    if (i > 0 && ds > 1e-300) max_dcurvature = std::max(max_dcurvature, core::norm(k - k_prev) / ds);
+    if (i > 0 && ds > 1e-300) max_dcurvature = std::max(max_dcurvature, std::sqrt(dk2) / ds);
     k_prev = k;
     sp_prev = sp;
   }

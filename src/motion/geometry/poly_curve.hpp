@@ -82,8 +82,10 @@ struct PolyCurve {
   // Fills s_at, the box and the sampled maxima. Called once by every constructor (allocates).
   // Returns the estimated error of the length table (mm): the sum over its intervals of
   // |one 16-point rule - two 16-point rules on the halves|. Constructors split a curve whose
-  // estimate exceeds kTableTolerance·length into pieces.
-  double finalize();
+  // estimate exceeds kTableTolerance·length into pieces. Without `estimate` (a constructor that
+  // does not split) the halves are not integrated (a third of the work) and 0 is returned; the
+  // table is the same.
+  double finalize(bool estimate = true);
   // Distance from p to the curve: dense sampling, then Newton on (C - p)·C' = 0. Not rt-critical.
   double distance_to(const Vec& p) const;
 };
