@@ -290,21 +290,42 @@ double PolyCurve::param_at(double s) const {
   return u;
 }
 
-// rt-safe
-Vec unit_tangent(const CurveDerivs& d) {
-  const double sp = core::norm(d.d1);
-  if (sp > 1e-300) return d.d1 * (1.0 / sp);
-  // A stationary point (e.g. G5 with I = J = 0): the tangent is the limit direction of C''.
-  const double a = core::norm(d.d2);
-  return a > 0 ? d.d2 * (1.0 / a) : Vec{};
+// rt-safe. Unit tangent and curvature vector d²C/ds² = (C'' − (C''·T) T) / |C'|² over the axes
+// ax[0 … m) (the others 0: an axis the curve does not move has no derivative). At a stationary point
+// (e.g. G5 with I = J = 0) the tangent is the limit direction of C'' and the curvature is left 0.
+void tangent_curvature(const CurveDerivs& d, const std::size_t* ax, std::size_t m, Vec& t, Vec& k) {
+  double sp2 = 0, acc2 = 0;
+  for (std::size_t j = 0; j < m; ++j) {
+    sp2 += d.d1[ax[j]] * d.d1[ax[j]];
+    acc2 += d.d2[ax[j]] * d.d2[ax[j]];
+  }
+  t = Vec{};
+  k = Vec{};
+  const double sp = std::sqrt(sp2);
+  if (sp > 1e-300) {
+    for (std::size_t j = 0; j < m; ++j) t[ax[j]] = d.d1[ax[j]] * (1.0 / sp);
+  } else if (const double ta = std::sqrt(acc2); ta > 0) {
+    for (std::size_t j = 0; j < m; ++j) t[ax[j]] = d.d2[ax[j]] * (1.0 / ta);
+  }
+  if (!(sp2 > 1e-300)) return;
+  const double inv = 1.0 / std::sqrt(sp2);
+  double along = 0;
+  for (std::size_t j = 0; j < m; ++j) along += d.d2[ax[j]] * (d.d1[ax[j]] * inv);
+  for (std::size_t j = 0; j < m; ++j) k[ax[j]] = (d.d2[ax[j]] - d.d1[ax[j]] * inv * along) * (1.0 / sp2);
 }
 
-// rt-safe: d²C/ds² = (C'' - (C''·T) T) / |C'|².
+// rt-safe
+Vec unit_tangent(const CurveDerivs& d) {
+  Vec t, k;
+  tangent_curvature(d, kEveryAxis.data(), kEveryAxis.size(), t, k);
+  return t;
+}
+
+// rt-safe
 Vec curvature_vector(const CurveDerivs& d) {
-  const double sp2 = core::dot(d.d1, d.d1);
-  if (!(sp2 > 1e-300)) return Vec{};
-  const Vec t = d.d1 * (1.0 / std::sqrt(sp2));
-  return (d.d2 - t * core::dot(d.d2, t)) * (1.0 / sp2);
+  Vec t, k;
+  tangent_curvature(d, kEveryAxis.data(), kEveryAxis.size(), t, k);
+  return k;
 }
 
 double PolyCurve::finalize(bool estimate) {
@@ -359,43 +380,22 @@ double PolyCurve::finalize(bool estimate) {
       moves = moves || bez.hctrl[i][a] * bez.w[0] != bez.hctrl[0][a] * bez.w[i];
     if (moves) ax[m++] = a;
   }
-  std::array<double, core::kMaxAxes> k{}, k_prev{};
+  Vec t, k, k_prev;
   double sp_prev = 0;
   for (int i = 0; i <= kSamples; ++i) {
     const CurveDerivs d = derivs(static_cast<double>(i) / kSamples);
-    double sp2 = 0, acc2 = 0;
-    for (std::size_t j = 0; j < m; ++j) {
-      sp2 += d.d1[ax[j]] * d.d1[ax[j]];
-      acc2 += d.d2[ax[j]] * d.d2[ax[j]];
-    }
-    const double sp = std::sqrt(sp2);
-    // |T_i| as unit_tangent gives it (a stationary point: the direction of C'').
-    const double ta = std::sqrt(acc2);
+    tangent_curvature(d, ax.data(), m, t, k);
+    double sp2 = 0, k2 = 0, dk2 = 0;
     for (std::size_t j = 0; j < m; ++j) {
       const std::size_t a = ax[j];
-      const double t = sp > 1e-300 ? d.d1[a] * (1.0 / sp) : (ta > 0 ? d.d2[a] * (1.0 / ta) : 0.0);
-      max_abs_tangent[a] = std::max(max_abs_tangent[a], std::abs(t));
-    }
-    // The curvature vector as curvature_vector gives it: (C'' − (C''·T)T) / |C'|².
-    double k2 = 0, dk2 = 0;
-    if (sp2 > 1e-300) {
-      const double inv = 1.0 / std::sqrt(sp2);
-      double along = 0;
-      for (std::size_t j = 0; j < m; ++j) along += d.d2[ax[j]] * (d.d1[ax[j]] * inv);
-      for (std::size_t j = 0; j < m; ++j) {
-        const std::size_t a = ax[j];
-        k[a] = (d.d2[a] - d.d1[a] * inv * along) * (1.0 / sp2);
-      }
-    } else {
-      for (std::size_t j = 0; j < m; ++j) k[ax[j]] = 0;
-    }
-    for (std::size_t j = 0; j < m; ++j) {
-      const std::size_t a = ax[j];
+      max_abs_tangent[a] = std::max(max_abs_tangent[a], std::abs(t[a]));
+      sp2 += d.d1[a] * d.d1[a];
       k2 += k[a] * k[a];
       dk2 += (k[a] - k_prev[a]) * (k[a] - k_prev[a]);
     }
     max_curvature = std::max(max_curvature, std::sqrt(k2));
     // dκ/ds between samples: Δκ over the arc length between them (trapezoid rule on |C'|).
+    const double sp = std::sqrt(sp2);
     const double ds = 0.5 * (sp + sp_prev) / kSamples;
     if (i > 0 && ds > 1e-300) max_dcurvature = std::max(max_dcurvature, std::sqrt(dk2) / ds);
     k_prev = k;

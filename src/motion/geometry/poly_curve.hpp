@@ -93,5 +93,9 @@ struct PolyCurve {
 // Unit tangent and curvature vector d²C/ds² from the u-derivatives (rt-safe).
 Vec unit_tangent(const CurveDerivs& d);
 Vec curvature_vector(const CurveDerivs& d);
+// Both, over the axes ax[0 … m) only (the others 0): construction samples the axes that move.
+static_assert(core::kMaxAxes == 9, "kEveryAxis lists every axis");
+inline constexpr std::array<std::size_t, core::kMaxAxes> kEveryAxis{0, 1, 2, 3, 4, 5, 6, 7, 8};
+void tangent_curvature(const CurveDerivs& d, const std::size_t* ax, std::size_t m, Vec& t, Vec& k);
 
 }  // namespace softmc::motion

@@ -188,8 +188,7 @@ CurveFrame Segment::frame(double s) const {
   }
   const CurveDerivs d = poly.derivs(poly.param_at(s));
   if (s > 0 && s < length) f.point = d.c;
-  f.tangent = unit_tangent(d);
-  f.curvature = curvature_vector(d);
+  tangent_curvature(d, kEveryAxis.data(), kEveryAxis.size(), f.tangent, f.curvature);  // both in one pass
   return f;
 }
 
