@@ -19,6 +19,12 @@ constexpr std::array<double, 8> kGlX{0.09501250983763744, 0.2816035507792589, 0.
 constexpr std::array<double, 8> kGlW{0.18945061045506847, 0.1826034150449236, 0.16915651939500256,
                                      0.14959598881657682, 0.12462897125553395, 0.0951585116824929,
                                      0.062253523938647776, 0.027152459411754058};
+// 8-point rule: where the curve's construction found it agrees with the 16-point one on every
+// table interval (PolyCurve::gl8_ok), s → u integrates its partial interval with it.
+constexpr std::array<double, 4> kGl8X{0.1834346424956498, 0.5255324099163290, 0.7966664774136267,
+                                      0.9602898564975363};
+constexpr std::array<double, 4> kGl8W{0.3626837833783620, 0.3137066458778873, 0.2223810344533745,
+                                      0.1012285362903763};
 // 4-point rule for the tiny corrections of the Newton iteration.
 constexpr std::array<double, 2> kGl4X{0.3399810435848563, 0.8611363115940526};
 constexpr std::array<double, 2> kGl4W{0.6521451548625461, 0.34785484513745374};
@@ -224,23 +230,20 @@ class SpeedEval {
   std::array<double, kMaxBezierDegree + 1> w_{};
 };
 
-// rt-safe: ∫_a^b f by the 16-point rule.
-template <class F>
-double gl16(const F& f, double a, double b) {
+// rt-safe: ∫_a^b f by the symmetric Gauss–Legendre rule with positive nodes x, weights w.
+template <std::size_t N, class F>
+double gauss(const std::array<double, N>& x, const std::array<double, N>& w, const F& f, double a, double b) {
   const double m = 0.5 * (a + b), r = 0.5 * (b - a);
   double sum = 0;
-  for (std::size_t i = 0; i < kGlX.size(); ++i) sum += kGlW[i] * (f(m - r * kGlX[i]) + f(m + r * kGlX[i]));
+  for (std::size_t i = 0; i < N; ++i) sum += w[i] * (f(m - r * x[i]) + f(m + r * x[i]));
   return sum * r;
 }
-
-// rt-safe: the 4-point rule, for the small Newton corrections.
 template <class F>
-double gl4(const F& f, double a, double b) {
-  const double m = 0.5 * (a + b), r = 0.5 * (b - a);
-  double sum = 0;
-  for (std::size_t i = 0; i < kGl4X.size(); ++i) sum += kGl4W[i] * (f(m - r * kGl4X[i]) + f(m + r * kGl4X[i]));
-  return sum * r;
-}
+double gl16(const F& f, double a, double b) { return gauss(kGlX, kGlW, f, a, b); }
+template <class F>
+double gl8(const F& f, double a, double b) { return gauss(kGl8X, kGl8W, f, a, b); }
+template <class F>
+double gl4(const F& f, double a, double b) { return gauss(kGl4X, kGl4W, f, a, b); }
 
 }  // namespace
 
@@ -272,7 +275,8 @@ double PolyCurve::param_at(double s) const {
                            (t3 - t2) * ds / v1;
     if (hermite > lo && hermite < hi) u = hermite;
   }
-  double acc = sa + gl16(speed_at, lo, u);  // s(u)
+  const auto part = [&](double from, double to) { return gl8_ok ? gl8(speed_at, from, to) : gl16(speed_at, from, to); };
+  double acc = sa + part(lo, u);  // s(u)
   const double tol = 1e-12 * std::max(1.0, len);
   for (int iter = 0; iter < 8; ++iter) {
     const double f = acc - s;
@@ -284,7 +288,7 @@ double PolyCurve::param_at(double s) const {
     const double sp = speed_at(u);
     double un = sp > 0 ? u - f / sp : 0.5 * (lo + hi);
     if (!(un > lo && un < hi)) un = 0.5 * (lo + hi);  // safeguard: stay inside the bracket
-    acc += std::abs(un - u) < 0.02 * kH ? gl4(speed_at, u, un) : gl16(speed_at, u, un);
+    acc += std::abs(un - u) < 0.02 * kH ? gl4(speed_at, u, un) : part(u, un);
     u = un;
   }
   return u;
@@ -330,14 +334,17 @@ Vec curvature_vector(const CurveDerivs& d) {
 
 double PolyCurve::finalize(bool estimate) {
   s_at[0] = 0;
-  double err = 0;
+  double err = 0, d8 = 0;
   const SpeedEval speed_at(*this);
   for (std::size_t k = 0; k < kArcTableIntervals; ++k) {
     const double a = k * kH, b = (k + 1) * kH, m = 0.5 * (a + b);
     const double whole = gl16(speed_at, a, b);
     if (estimate) err += std::abs(whole - (gl16(speed_at, a, m) + gl16(speed_at, m, b)));
+    d8 = std::max(d8, std::abs(gl8(speed_at, a, b) - whole));
     s_at[k + 1] = s_at[k] + whole;
   }
+  // A partial interval is shorter than a whole one, and the 8-point rule's error shrinks with it.
+  gl8_ok = d8 <= 1e-14 * s_at.back();
 
   // Bounds: per axis, a Bernstein branch-and-bound range (guaranteed to contain the curve).
   if (basis == PolyBasis::Bezier) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 #include <numbers>
+#include <random>
 #include <vector>
 
 #include "motion/geometry/bezier.hpp"
@@ -228,4 +229,37 @@ TEST(GeometryBezier, CornerBlendLeavesAndJoinsTheLinesWithZeroCurvature) {
     EXPECT_LE(far, dev + 1e-12) << delta;
     EXPECT_GT(far, 0.5 * dev * std::cos(delta / 2)) << delta;  // it does cut the corner
   }
+}
+
+// s → u integrates its partial table interval with the 8-point rule where construction found it
+// agrees with the 16-point one on every interval (PolyCurve::gl8_ok): tame cubics and quintics
+// qualify, a curve with a near-cusp does not, and either rule gives the same parameter to 1e-12.
+TEST(GeometryBezier, T2_ArcLengthInversionIsTheSameWithEitherRule) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int fast = 0;
+  for (int n = 0; n < 40; ++n) {
+    std::vector<core::Vec> ctrl;
+    const std::size_t deg = n % 2 ? 5 : 3;
+    for (std::size_t i = 0; i <= deg; ++i) ctrl.push_back(xy(3.0 * i + 0.8 * u(rng), 0.8 * u(rng), 0.3 * u(rng)));
+    const auto r = make_bezier(ctrl);
+    ASSERT_TRUE(r.ok());
+    fast += r.segment.poly.gl8_ok;
+    PolyCurve slow = r.segment.poly;
+    slow.gl8_ok = false;
+    for (int k = 1; k < 200; ++k) {
+      const double s = r.segment.length * k / 200;
+      EXPECT_NEAR(r.segment.poly.param_at(s), slow.param_at(s), 1e-12) << n << " " << k;
+    }
+  }
+  EXPECT_GE(fast, 36);
+  // The cusp of (0,0) (10,10) (0,10) (10,0) at u = 5/7 of its part over [0, 0.7] (as below): |C'|
+  // has a kink inside a table interval.
+  const core::Vec q[4] = {xy(0, 0), xy(10, 10), xy(0, 10), xy(10, 0)};
+  const auto lerp = [](const core::Vec& a, const core::Vec& b, double t) { return a * (1 - t) + b * t; };
+  const core::Vec a1 = lerp(q[0], q[1], 0.7), b1 = lerp(q[1], q[2], 0.7), c1 = lerp(q[2], q[3], 0.7);
+  const core::Vec a2 = lerp(a1, b1, 0.7), b2 = lerp(b1, c1, 0.7);
+  const auto c = make_bezier(std::vector<core::Vec>{q[0], a1, a2, lerp(a2, b2, 0.7)});
+  ASSERT_TRUE(c.ok());
+  EXPECT_FALSE(c.segment.poly.gl8_ok);
 }
