@@ -12,6 +12,9 @@
 namespace softmc::motion {
 
 namespace {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kMinLength_mm = 1e-9;  // shorter pieces carry no motion worth a block
+
 // The quintic corner blend's shape for a deflection δ (make_corner_blend): the control-point
 // spacing (α, β) that, for a given distance of the midpoint from the corner, keeps the jerk term
 // v³(κ² + dκ/ds) lowest, fitted over δ = 0.35 … 2.8 rad (docs/planner.md, "Corner blends").
@@ -19,11 +22,26 @@ void corner_blend_shape(double delta, double& alpha, double& beta) {
   beta = std::min(0.9, 0.18 + 0.2 * std::max(0.0, delta - 1.0) + 0.35 * std::max(0.0, delta - 2.2));
   alpha = 0.46 + 0.5 * beta;
 }
-}  // namespace
 
-namespace {
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kMinLength_mm = 1e-9;  // shorter pieces carry no motion worth a block
+// A block's speed limits from its segment's (j: its path jerk, ∞ without a jerk limit).
+void set_limits(Block& b, const SegmentLimits& l, double j) {
+  b.a_mm_s2 = l.a_max_mm_s2;
+  b.v_cap_mm_s = l.v_max_mm_s;
+  b.v_split_mm_s = l.v_max_mm_s;
+  b.j_mm_s3 = j;
+}
+
+// The largest v² at which a step dk of the curvature vector (a junction of curvatures) moves every
+// jerk-limited axis's acceleration by at most kink_share of j_i·dt within one cycle (∞: no step).
+double curvature_step_v2(const Vec& dk, const MachineLimits& lim, double kink_share) {
+  double v2 = kInf;
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
+    const double d = std::abs(dk[i]);
+    if (d < 1e-12 || !(lim.axis[i].j_max_mm_s3 > 0)) continue;
+    v2 = std::min(v2, kink_share * lim.axis[i].j_max_mm_s3 * lim.period_s / d);
+  }
+  return v2;
+}
 }  // namespace
 
 const char* to_string(PlanResult r) {
@@ -410,10 +428,7 @@ PlanResult Planner::plan(const PathRequest& req, double merge_dev_mm, std::uint3
   b.tag_last = std::max(req.tag, tag_last);
   b.length = req.geom.length;
   b.merge_q_mm = merge_dev_mm;
-  b.a_mm_s2 = sl.a_max_mm_s2;
-  b.v_cap_mm_s = sl.v_max_mm_s;
-  b.v_split_mm_s = sl.v_max_mm_s;
-  b.j_mm_s3 = req.profile == ProfileKind::Trapezoid ? kInf : sl.j_max_mm_s3;
+  set_limits(b, sl, req.profile == ProfileKind::Trapezoid ? kInf : sl.j_max_mm_s3);
   set_law(b, [&] { return segment_law(req.geom, limits_); });
   b.feed_mm_s = req.rapid ? kInf : req.feed_mm_s;
   const double full_length = b.length;
@@ -449,10 +464,7 @@ PlanResult Planner::plan(const PathRequest& req, double merge_dev_mm, std::uint3
           blend.blend = make_blend_arc(a.seg.end - a.seg.dir * d, a.seg.dir, b.seg.dir, r, delta);
           blend.length = r * delta;
           const auto bl = blend_limits(blend.blend, limits_, config_.centripetal_share);
-          blend.a_mm_s2 = bl.a_max_mm_s2;
-          blend.v_cap_mm_s = bl.v_max_mm_s;
-          blend.v_split_mm_s = bl.v_max_mm_s;
-          blend.j_mm_s3 = jerk ? bl.j_max_mm_s3 : kInf;
+          set_limits(blend, bl, jerk ? bl.j_max_mm_s3 : kInf);
           set_law(blend, [&] { return blend_law(blend.blend, limits_); });
         }
         if (jerk && delta >= config_.g2_blend_min_rad) {
@@ -463,15 +475,11 @@ PlanResult Planner::plan(const PathRequest& req, double merge_dev_mm, std::uint3
           // where its corner speed is well above the arc's (g2_blend_gain: a Poly piece keeps less of
           // the acceleration along the path than an arc, docs/planner.md, "Corner blends"); at most
           // half of each line, as the arc.
-          double v_arc = blend.length > 0 ? blend.v_cap_mm_s : 0;
-          if (blend.length > 0) {
-            const Vec k0 = blend.blend.curvature(0);
-            for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
-              const double dk = std::abs(k0[i]);
-              if (dk < 1e-12 || !(limits_.axis[i].j_max_mm_s3 > 0)) continue;
-              v_arc = std::min(v_arc, std::sqrt(config_.kink_share * limits_.axis[i].j_max_mm_s3 * limits_.period_s / dk));
-            }
-          }
+          const double v_arc =
+              blend.length > 0
+                  ? std::min(blend.v_cap_mm_s,
+                             std::sqrt(curvature_step_v2(blend.blend.curvature(0), limits_, config_.kink_share)))
+                  : 0.0;
           double alpha = 0, beta = 0;
           corner_blend_shape(delta, alpha, beta);
           const double dq = std::min(tol / corner_blend_dev(chord, 1.0, alpha, beta), d_max);
@@ -488,10 +496,7 @@ PlanResult Planner::plan(const PathRequest& req, double merge_dev_mm, std::uint3
             blend = Block{};
             blend.seg = q.segment;
             blend.length = q.segment.length;
-            blend.a_mm_s2 = ql.a_max_mm_s2;
-            blend.v_cap_mm_s = ql.v_max_mm_s;
-            blend.v_split_mm_s = ql.v_max_mm_s;
-            blend.j_mm_s3 = ql.j_max_mm_s3;
+            set_limits(blend, ql, ql.j_max_mm_s3);
             set_law(blend, [&] { return segment_law(blend.seg, limits_); });
             d = dq;
           }
@@ -604,11 +609,7 @@ void Planner::commit(const Block& b) {
     if (!std::isinf(nb.j_mm_s3) || !std::isinf(prev.j_mm_s3)) {
       const Vec dk = nb.curvature(0) - prev.curvature(prev.length);
       const double dt = limits_.period_s;
-      for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
-        const double d = std::abs(dk[i]);
-        if (d < 1e-12 || !(limits_.axis[i].j_max_mm_s3 > 0)) continue;
-        nb.v2_junction = std::min(nb.v2_junction, config_.kink_share * limits_.axis[i].j_max_mm_s3 * dt / d);
-      }
+      nb.v2_junction = std::min(nb.v2_junction, curvature_step_v2(dk, limits_, config_.kink_share));
       double used = 0;  // largest share of an axis's jerk budget the step takes
       for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
         const double d = std::abs(dk[i]);
