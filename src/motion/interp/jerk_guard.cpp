@@ -332,7 +332,7 @@ bool JerkGuard::check(Cursor& c, double p0, double v0, const PathStep& st, Guard
   if (st.v_min < -kAbs) return fail(verdict, true, p0, 0, false);  // the path would reverse
   for (;;) {
     const std::size_t k = c.k;
-    const double here = std::max(p0, c.start);
+    const double here = std::max(p0, start(k));
     if (over(st.j_abs, jerk(k)) || over(st.a_abs, acc(k)) || over(st.v_peak, hard(k)))
       return fail(verdict, true, here, hard(k), false);
     if (over(st.v_peak, soft(k))) return fail(verdict, false, here, soft(k), false);
@@ -349,7 +349,7 @@ bool JerkGuard::check(Cursor& c, double p0, double v0, const PathStep& st, Guard
     } else if (over(cross ? st.v_peak : st.x.v, u)) {
       return fail(verdict, true, end, u, false);
     }
-    c = {k + 1, end};
+    c = {k + 1};
     if (!cross) {  // lands on the start of k + 1: its limits hold from here
       if (over(std::abs(st.x.a), acc(k + 1)) || over(st.x.v, hard(k + 1))) return fail(verdict, true, end, u, false);
       if (over(st.x.v, soft(k + 1))) return fail(verdict, false, end, soft(k + 1), false);
@@ -581,7 +581,7 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
 // rt-safe
 GuardVerdict JerkGuard::verify(const PathStep& step, const GuardMode& mode) const {
   GuardVerdict v;
-  Cursor c{0, start(0)};
+  Cursor c{0};
   if (!check(c, 0, v_now_, step, v) || v.failed()) return v;
   if (mode.certify) {
     const Cert r = certify(step.x, step.x.s, c, v);

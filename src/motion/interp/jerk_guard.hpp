@@ -123,7 +123,7 @@ class JerkGuard {
   // one ramp that provably keeps every limit, same verdict).
   GuardVerdict verify(const PathStep& step, const GuardMode& mode) const;
   // rt-safe. One cycle of π from the present state.
-  PathStep brake_now(const ProfileState& now) const { return brake({now.s, now.v, now.a, 0}, 0, Cursor{0, start(0)}); }
+  PathStep brake_now(const ProfileState& now) const { return brake({now.s, now.v, now.a, 0}, 0, Cursor{0}); }
   // rt-safe. One cycle of the certified ramp to rest with limits a, j from the present state.
   PathStep certified_brake(const ProfileState& now, double a, double j) const { return ramp_cycle(now, 0, a, j, dt_); }
   // Limits (scaled) of the blocks from the front up to distance `to_mm` from now.
@@ -137,8 +137,7 @@ class JerkGuard {
 
  private:
   struct Cursor {
-    std::size_t k = 0;  // block containing the position
-    double start = 0;   // its start, distance from now
+    std::size_t k = 0;  // block containing the position (its start: start(k))
   };
   PathStep brake(const ProfileState& x, double p, const Cursor& c) const;
   bool tail_safe(const ProfileState& x, double p, const Cursor& c) const;
