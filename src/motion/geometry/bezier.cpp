@@ -1,6 +1,7 @@
 // Bézier, rational Bézier, G5 and G5.1 constructors.
 #include "motion/geometry/bezier.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -115,9 +116,37 @@ Segment make_cubic_bezier(const Vec& p0, const Vec& p1, const Vec& p2, const Vec
 }
 
 SegmentResult make_corner_blend(const Vec& corner, const Vec& t1, const Vec& t2, double d, double alpha, double beta) {
-  const std::array<Vec, 6> c{corner - t1 * d,          corner - t1 * (alpha * d), corner - t1 * (beta * d),
-                             corner + t2 * (beta * d), corner + t2 * (alpha * d), corner + t2 * d};
+  return make_g2_blend(corner - t1 * d, t1, Vec{}, d, corner + t2 * d, t2, Vec{}, d, alpha, beta);
+}
+
+std::array<Vec, 6> g2_blend_points(const Vec& p0, const Vec& t0, const Vec& k0, double x0, const Vec& p1,
+                                   const Vec& t1, const Vec& k1, double x1, double alpha, double beta) {
+  // C'(0) = 5(P1 − P0) = λ·t0 with λ = 5(1−α)·x0, and C''(0) = 20(P2 − 2P1 + P0) = λ²·k0 + μ·t0 for
+  // any μ: the curvature vector at 0 is then k0 (its part normal to t0). The same at the end.
+  const auto normal = [](const Vec& k, const Vec& t) { return k - t * core::dot(k, t); };
+  const double c0 = 1.25 * (1 - alpha) * (1 - alpha) * x0 * x0, c1 = 1.25 * (1 - alpha) * (1 - alpha) * x1 * x1;
+  return {p0,
+          p0 + t0 * ((1 - alpha) * x0),
+          p0 + t0 * ((1 - beta) * x0) + normal(k0, t0) * c0,
+          p1 - t1 * ((1 - beta) * x1) + normal(k1, t1) * c1,
+          p1 - t1 * ((1 - alpha) * x1),
+          p1};
+}
+
+SegmentResult make_g2_blend(const Vec& p0, const Vec& t0, const Vec& k0, double x0, const Vec& p1, const Vec& t1,
+                            const Vec& k1, double x1, double alpha, double beta) {
+  const auto c = g2_blend_points(p0, t0, k0, x0, p1, t1, k1, x1, alpha, beta);
   return make_bezier(c);
+}
+
+// rt-safe
+Vec bezier_point(std::span<const Vec> ctrl, double u) {
+  std::array<Vec, kMaxBezierDegree + 1> q{};
+  const std::size_t n = std::min(ctrl.size(), q.size());
+  for (std::size_t i = 0; i < n; ++i) q[i] = ctrl[i];
+  for (std::size_t lvl = 1; lvl < n; ++lvl)
+    for (std::size_t i = 0; i + lvl < n; ++i) q[i] = q[i] + (q[i + 1] - q[i]) * u;
+  return q[0];
 }
 
 Segment g5_cubic_spline(const Vec& start, const Vec& end, double i, double j, double p, double q,

@@ -7,6 +7,7 @@
 // (LinuxCNC forbids them; here a start ≠ end in such an axis is simply carried along).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -34,6 +35,23 @@ SegmentResult make_corner_blend(const Vec& corner, const Vec& t1, const Vec& t2,
 inline double corner_blend_dev(double chord, double d, double alpha, double beta) {
   return d / 32 * (1 + 5 * alpha + 10 * beta) * chord;  // chord = |t2 − t1|
 }
+
+// The curvature-continuous blend between any two curves (the planner's at corners and curvature
+// steps involving arcs): a quintic Bézier from p0 to p1 that leaves p0 along unit tangent t0 with
+// curvature vector k0 and joins p1 along t1 with curvature k1 (position, tangent and curvature
+// continuous at both ends: no step of any axis's acceleration). x0 and x1 are its control legs,
+// the distances from p0 and p1 to the corner its tangent lines make (make_corner_blend's d), and
+// (α, β) its shape as there:
+//   P1 = p0 + (1−α)·x0·t0, P2 = p0 + (1−β)·x0·t0 + 1.25·(1−α)²·x0²·k0⊥  (k⊥: the part normal to t)
+// and the mirror image at p1. With k0 = k1 = 0 and x0 = x1 = d it is make_corner_blend.
+// rt-safe.
+SegmentResult make_g2_blend(const Vec& p0, const Vec& t0, const Vec& k0, double x0, const Vec& p1, const Vec& t1,
+                            const Vec& k1, double x1, double alpha, double beta);
+// Its control points alone (evaluated by bezier_point before the curve is built).
+std::array<Vec, 6> g2_blend_points(const Vec& p0, const Vec& t0, const Vec& k0, double x0, const Vec& p1,
+                                   const Vec& t1, const Vec& k1, double x1, double alpha, double beta);
+// Point of the polynomial Bézier with these control points at u ∈ [0, 1] (de Casteljau). rt-safe.
+Vec bezier_point(std::span<const Vec> ctrl, double u);
 
 // Configuration time: appends the rational Bézier as one segment, or as consecutive halves (de
 // Casteljau at u = ½, recursively) while a piece's length table is not accurate to

@@ -72,6 +72,24 @@ Segment make_arc(const Vec& start, const Vec& end, std::uint8_t axis0, std::uint
 }
 
 // rt-safe
+Segment trimmed(const Segment& g, double s0, double s1) {
+  if (g.kind == SegmentKind::Poly || !(g.length > 0)) return g;
+  s0 = std::clamp(s0, 0.0, g.length);
+  s1 = std::clamp(s1, s0, g.length);
+  if (g.kind == SegmentKind::Line) return make_line(g.point(s0), g.point(s1));
+  Segment t = g;
+  const double f0 = s0 / g.length, f = (s1 - s0) / g.length;
+  t.start = g.point(s0);
+  t.end = g.point(s1);
+  t.theta0 = g.theta0 + g.sweep * f0;
+  t.radius = g.radius + g.dradius * f0;
+  t.sweep = g.sweep * f;
+  t.dradius = g.dradius * f;
+  t.length = s1 - s0;  // `linear` is per unit of s: unchanged
+  return t;
+}
+
+// rt-safe
 Vec Segment::point(double s) const {
   if (s <= 0) return start;
   if (s >= length) return end;

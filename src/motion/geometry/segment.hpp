@@ -92,4 +92,10 @@ Segment make_line(const Vec& start, const Vec& end);
 Segment make_arc(const Vec& start, const Vec& end, std::uint8_t axis0, std::uint8_t axis1, double c0, double c1,
                  int turns);
 
+// The part s ∈ [s0, s1] of a line or arc/helix (0 ≤ s0 < s1 ≤ length), exact: an arc's angle and
+// radius advance uniformly with s, so the piece is the same curve with its own start angle, sweep
+// and radius (the planner trims arcs where it blends their ends). Poly curves are returned whole.
+// rt-safe.
+Segment trimmed(const Segment& g, double s0, double s1);
+
 }  // namespace softmc::motion

@@ -263,3 +263,33 @@ TEST(GeometryBezier, T2_ArcLengthInversionIsTheSameWithEitherRule) {
   ASSERT_TRUE(c.ok());
   EXPECT_FALSE(c.segment.poly.gl8_ok);
 }
+
+// The planner's blend where a line meets an arc (or two arcs meet): the quintic continues each
+// curve with its position, unit tangent and curvature vector, so no axis's acceleration steps.
+TEST(GeometryBezier, G2BlendContinuesEachCurveWithItsTangentAndCurvature) {
+  const Segment in = make_line(xy(-5, 0, 0), xy(0, 0, 0));
+  for (const int turns : {1, -1}) {
+    // A helix leaving the corner at 90° (centre (0, ±3)), rising along z.
+    const Segment out = make_arc(xy(0, 0, 0), xy(3 * turns, 3, 1), 0, 1, 3 * turns, 0, -turns);
+    const double sa = in.length - 0.4, sb = 0.5;
+    const core::Vec p0 = in.point(sa), p1 = out.point(sb);
+    const core::Vec t0 = in.tangent(sa), t1 = out.tangent(sb) * (1 / core::norm(out.tangent(sb)));
+    const auto r = make_g2_blend(p0, t0, in.curvature(sa), 0.5, p1, t1, out.curvature(sb), 0.45, 0.6, 0.2);
+    ASSERT_TRUE(r.ok());
+    const Segment& s = r.segment;
+    EXPECT_EQ(s.start, p0);
+    EXPECT_EQ(s.end, p1);
+    EXPECT_LT(core::norm(s.tangent(0) - t0), 1e-12) << turns;
+    EXPECT_LT(core::norm(s.tangent(s.length) - t1), 1e-12) << turns;
+    EXPECT_LT(core::norm(s.curvature(0)), 1e-9) << turns;  // the line's
+    const core::Vec k1 = out.curvature(sb);
+    EXPECT_GT(core::norm(k1), 0.1);
+    EXPECT_LT(core::norm(s.curvature(s.length) - k1), 1e-9 * core::norm(k1)) << turns;  // the helix's
+    for (int k = 0; k <= 10; ++k)  // bezier_point is the same curve the segment samples
+      EXPECT_LT(core::distance(bezier_point(g2_blend_points(p0, t0, in.curvature(sa), 0.5, p1, t1, out.curvature(sb),
+                                                            0.45, 0.6, 0.2),
+                                            s.poly.param_at(s.length * k / 10)),
+                               s.point(s.length * k / 10)),
+                1e-12);
+  }
+}

@@ -138,3 +138,24 @@ TEST(Geometry, SpiralArcReachesAnEndOffTheCircleWithoutAJump) {
   EXPECT_LT(a.arc_bounds().share, 1);
   EXPECT_GT(a.arc_bounds().share, 0.999);
 }
+
+// The planner cuts an arc back where it blends its end: the piece must be the same curve, point
+// for point, tangent and curvature included (a spiral helix: radius, angle and height all move).
+TEST(Geometry, TrimmedArcIsTheSameCurveBetweenItsCuts) {
+  const auto g = make_arc(xy(10, 0, 0), xy(-0.3, 9.7, 4), 0, 1, 0, 0, 1);  // R 10 → ~10.0046, z 0 → 4
+  ASSERT_NE(g.dradius, 0);
+  const double s0 = 0.3 * g.length, s1 = 0.8 * g.length;
+  const auto t = motion::trimmed(g, s0, s1);
+  EXPECT_DOUBLE_EQ(t.length, s1 - s0);
+  EXPECT_EQ(t.start, g.point(s0));
+  EXPECT_EQ(t.end, g.point(s1));
+  for (int k = 0; k <= 50; ++k) {
+    const double s = t.length * k / 50;
+    EXPECT_LT(core::distance(t.point(s), g.point(s0 + s)), 1e-12) << s;
+    EXPECT_LT(core::norm(t.tangent(s) - g.tangent(s0 + s)), 1e-12) << s;
+    EXPECT_LT(core::norm(t.curvature(s) - g.curvature(s0 + s)), 1e-12) << s;
+  }
+  const auto l = motion::trimmed(make_line(xy(0, 0), xy(3, 4)), 1, 4);
+  EXPECT_DOUBLE_EQ(l.length, 3.0);
+  EXPECT_NEAR(core::distance(l.start, xy(0.6, 0.8)), 0, 1e-15);
+}
