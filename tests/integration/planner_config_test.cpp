@@ -107,7 +107,7 @@ TEST(PlannerConfig, ArcsInPiecesKeepTheLimits) {
   const auto res = app::simulate(prog, cfg);
   ASSERT_TRUE(res.ok) << res.result;
   const auto s = report::summarize(prog, cfg, res.trace);
-  EXPECT_LT(s.max_path_deviation_mm, 1e-6);
+  EXPECT_LE(s.max_path_deviation_mm, 0.05 + 1e-9);  // its line-arc corners are blended within P
   for (std::size_t i = 0; i < 3; ++i) {
     EXPECT_LE(s.axis[i].max_vel_mm_s, 100 * (1 + 1e-6)) << i;
     EXPECT_LE(s.axis[i].max_acc_mm_s2, 1000 * (1 + 1e-6)) << i;

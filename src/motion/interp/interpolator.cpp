@@ -102,7 +102,7 @@ void Interpolator::rest_at_end() {
   v_ = 0;
   a_ = 0;
   s_ = 0;
-  cert_a_ = cert_j_ = 0;
+  cert_ = GuardVerdict{};
 }
 
 // rt-safe
@@ -161,7 +161,7 @@ const Setpoint& Interpolator::step(double dt) {
     if (!ring.empty() && std::isfinite(ring.front().j_mm_s3)) {
       s_ = 0;
       a_ = 0;
-      cert_a_ = cert_j_ = 0;
+      cert_ = GuardVerdict{};
       return step_jerk(left);
     }
     if (ring.empty()) {  // the tail ends at rest: exactly on the last programmed point

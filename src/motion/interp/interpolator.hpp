@@ -54,6 +54,9 @@ struct InterpolatorConfig {
   bool guard_certificate = true;
   bool guard_simulate = false;
   int guard_short_brake_cycles = 10;
+  // Jerk mode: where the certificate cannot decide, its gated form (two ramps: to the speed a block
+  // of far lower acceleration allows at its start, then to rest from there; jerk_guard.cpp) first.
+  bool guard_gate = true;
 };
 
 // True when any present axis has a jerk limit (blocks then carry a finite j_mm_s3: the jerk follower runs).
@@ -122,8 +125,8 @@ class Interpolator {
   double a_ = 0;          // jerk mode: path acceleration
   double s_ = 0;          // jerk mode: distance into the front block
   // Jerk mode: the fallback brake from the present state, certified when the state was accepted:
-  // the ramp to rest with these limits, or (0) the guard's π.
-  double cert_a_ = 0, cert_j_ = 0;
+  // its cert_* fields (the ramp to rest with cert_a, cert_j; gated: cert_a2 > 0), or (cert_a 0) π.
+  GuardVerdict cert_;
   std::uint64_t jerk_cycles_ = 0, guard_simulations_ = 0, guard_verifies_ = 0;
   Inputs in_;
   double override_ = 1;

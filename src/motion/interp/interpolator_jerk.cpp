@@ -44,8 +44,10 @@ const Setpoint& Interpolator::step_jerk(double dt) {
     double d = f.length - s_;
     for (std::size_t k = 1; k < n && d < near && ring.at(k).v2_junction > 0; ++k) {
       const Block& b = ring.at(k);
-      a_c = std::min(a_c, b.a_mm_s2);
       j_c = std::min(j_c, jerk_of(b, dt));
+      // A block d ahead is reached no sooner than d / vpk: |a| may be above its limit now by what
+      // the jerk takes off in that time (the guard checks every block's limit on the brake).
+      a_c = std::min(a_c, b.a_mm_s2 + j_c * std::max(0.0, d - reach) / vpk);
       if (d < reach) {
         a_now = std::min(a_now, b.a_mm_s2);
         j_now = std::min(j_now, jerk_of(b, dt));
@@ -53,6 +55,7 @@ const Setpoint& Interpolator::step_jerk(double dt) {
       d += b.length;
     }
   }
+  a_c = std::min(a_c, a_now);
   a_c *= scale;
   j_c *= scale;
   a_now *= scale;
@@ -72,6 +75,7 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   mode.certify = config_.guard_certificate;
   mode.simulate = config_.guard_simulate;
   mode.simulate_up_to_s = config_.guard_short_brake_cycles * dt;
+  mode.gate = config_.guard_gate;
   PathStep step = ramp_cycle(now, vt, a_c, j_c, dt);
   const GuardVerdict first = guard.verify(step, mode);
   ++jerk_cycles_;
@@ -103,10 +107,20 @@ const Setpoint& Interpolator::step_jerk(double dt) {
     };
     std::sort(cand.begin(), cand.begin() + static_cast<std::ptrdiff_t>(m), ahead);
     // The last resort: one cycle of the fallback brake certified when the present state was accepted.
-    taken = GuardVerdict{};
-    taken.cert_a = cert_a_;
-    taken.cert_j = cert_j_;
-    step = cert_a_ > 0 ? guard.certified_brake(now, cert_a_, cert_j_) : guard.brake_now(now);
+    taken = cert_;
+    taken.simulated = false;
+    if (cert_.cert_a2 > 0) {
+      step = guard.gated_brake(now, cert_);
+      // Its distance to the gate shrinks with the step; past the gate the rest is the ramp to rest.
+      taken.cert_gate_mm -= step.x.s;
+      if (!(taken.cert_gate_mm > 0)) {
+        taken.cert_a = cert_.cert_a2;
+        taken.cert_j = cert_.cert_j2;
+        taken.cert_a2 = taken.cert_j2 = taken.cert_w = taken.cert_gate_mm = 0;
+      }
+    } else {
+      step = cert_.cert_a > 0 ? guard.certified_brake(now, cert_.cert_a, cert_.cert_j) : guard.brake_now(now);
+    }
     for (std::size_t i = 0; i < m; ++i) {
       if (!ahead(cand[i], step)) break;
       const GuardVerdict v = guard.verify(cand[i], mode);
@@ -119,8 +133,7 @@ const Setpoint& Interpolator::step_jerk(double dt) {
       }
     }
   }
-  cert_a_ = taken.cert_a;
-  cert_j_ = taken.cert_j;
+  cert_ = taken;
   ProfileState x = step.x;
   if (x.s < 0) x.s = 0;
   v_ = std::max(0.0, x.v);

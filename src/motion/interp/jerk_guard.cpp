@@ -578,14 +578,99 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   return Cert::Safe;
 }
 
+namespace {
+// The ramp from x to speed w (< x.v or not) with limits a, j as ramp_cycle follows it: its distance
+// to w (where a = 0) and the largest and least speed on it.
+struct RampTo {
+  double d = 0, v_up = 0, v_min = 0;
+};
+RampTo ramp_to(const ProfileState& x, double w, double a, double j) {
+  const RampPhases ph = ramp_phases(x, w, a, j);
+  ProfileState y{0, x.v, x.a, 0};
+  RampTo r{0, x.v, x.v};
+  for (int i = 0; i < 4; ++i) {
+    const double dur = ph.dur[i], jk = ph.jerk[i];
+    if (dur > 0) {
+      if (jk != 0 && -y.a / jk > 0 && -y.a / jk < dur) {
+        const double v = advance(y, jk, -y.a / jk).v;
+        r.v_up = std::max(r.v_up, v);
+        r.v_min = std::min(r.v_min, v);
+      }
+      y = advance(y, jk, dur);
+    }
+    if (i == 0) y.a = std::clamp(y.a, -a, a);
+    r.v_up = std::max(r.v_up, y.v);
+    r.v_min = std::min(r.v_min, y.v);
+  }
+  r.d = y.s;
+  return r;
+}
+}  // namespace
+
+// rt-safe. Where the ramp to rest cannot pass a block whose acceleration is far below the ones
+// before it (a short curve between lines: under the jerk limit its tangential acceleration is a
+// fraction of theirs), every ramp to rest with one A would brake at that block's A from far ahead,
+// or stop before it. The gated certificate brakes in two stages instead:
+//
+//   x ──ramp to w (A1, J1)──► w ── cruise ──┃ gate: block k ──ramp to rest (certify, from w, a = 0)──► 0
+//
+// A1, J1 the least of the blocks before the gate, w the speed the gate block allows at its start;
+// the first ramp must reach w before the gate and keep under every cap and junction up to it, and
+// the second is the certificate from (w, a = 0) one cycle of cruising past the gate (the fallback
+// starts it in the first cycle after the gate; a ramp started earlier on the same blocks is slower
+// everywhere and keeps the same limits). Safe only when both are.
+JerkGuard::Cert JerkGuard::certify_gated(const ProfileState& x0, double p, const Cursor& c, GuardVerdict& v) const {
+  const ProfileState x{0, x0.v, x0.a, 0};
+  if (!(x.v > 0)) return Cert::Unknown;
+  double a1 = acc(c.k), j1 = jerk(c.k);
+  if (!(a1 > 0) || !(j1 > 0) || !std::isfinite(j1) || std::abs(x.a) > a1) return Cert::Unknown;
+  // The gate is looked for as far as a ramp to rest with the present block's acceleration and a
+  // quarter of its jerk goes (the certificate's ramp takes the least jerk of a longer scan).
+  const double reach = BrakeRamp(x, a1, 0.25 * j1).d_stop * (1 + kRel) + kAbs + kTouch_mm;
+  double cap = std::min(hard(c.k), soft(c.k));
+  std::size_t k = c.k + 1;
+  for (;; ++k) {
+    if (k >= n_) return Cert::Unknown;
+    const double at = start(k) - p;
+    if (at > reach || u2(k) <= 0) return Cert::Unknown;  // no gate before the brake ends or a stop
+    if (acc(k) < 0.5 * a1) break;
+    a1 = std::min(a1, acc(k));
+    j1 = std::min(j1, jerk(k));
+    cap = std::min({cap, hard(k), soft(k), std::sqrt(u2(k))});
+  }
+  const double gate = start(k) - p;
+  const double w = std::min({x.v, hard(k), soft(k), std::sqrt(u2(k)), cap});
+  if (!(w > 0) || !(gate > 0)) return Cert::Unknown;
+  const RampTo r = ramp_to(x, w, a1, j1);
+  if (r.v_min < -kAbs || !(r.d * (1 + kRel) + kAbs <= gate) || over(r.v_up, cap)) return Cert::Unknown;
+  // The second stage from one cycle past the gate, inside the gate block.
+  const double p2 = start(k) + w * dt_;
+  if (!(start(k + 1) > p2 + kTouch_mm)) return Cert::Unknown;
+  GuardVerdict v2;
+  if (certify(ProfileState{0, w, 0, 0}, p2, Cursor{k}, v2) != Cert::Safe) return Cert::Unknown;
+  v.cert_a = a1;
+  v.cert_j = j1;
+  v.cert_w = w;
+  v.cert_gate_mm = gate;
+  v.cert_a2 = v2.cert_a;
+  v.cert_j2 = v2.cert_j;
+  v.brake_s = kInf;
+  return Cert::Safe;
+}
+
 // rt-safe
 GuardVerdict JerkGuard::verify(const PathStep& step, const GuardMode& mode) const {
   GuardVerdict v;
   Cursor c{0};
   if (!check(c, 0, v_now_, step, v) || v.failed()) return v;
   if (mode.certify) {
+    const GuardVerdict checked = v;
     const Cert r = certify(step.x, step.x.s, c, v);
     if (r != Cert::Unknown) return v;
+    if (mode.gate) {
+      GuardVerdict g = checked;
+      if (certify_gated(step.x, step.x.s, c, g) == Cert::Safe) return g;
+    }
     if (!mode.simulate && !(v.brake_s <= mode.simulate_up_to_s)) {  // refused, with the hint of where the ramp breaks a limit
       if (!v.failed()) fail(v, true, 0, 0, false);
       return v;

@@ -66,6 +66,10 @@ struct GuardVerdict {
   // Accepted by the certificate: the fallback brake from the step's end is the ramp to rest with
   // these limits (0: accepted by simulating π, which is the fallback).
   double cert_a = 0, cert_j = 0;
+  // A gated certificate (cert_a2 > 0): the fallback brake first ramps to speed cert_w with
+  // cert_a, cert_j, reached before the block cert_gate_mm ahead (whose acceleration is far lower),
+  // then from there ramps to rest with cert_a2, cert_j2 (JerkGuard::gated_brake).
+  double cert_w = 0, cert_gate_mm = 0, cert_a2 = 0, cert_j2 = 0;
   bool simulated = false;  // the verdict needed the simulation of π
   double brake_s = 0;      // the certificate's ramp to rest: its duration (∞ when it has none)
   bool failed() const { return !hard_ok || !soft_ok; }
@@ -107,6 +111,7 @@ struct GuardMode {
   bool certify = false;         // the certificate first
   bool simulate = true;         // where the certificate cannot decide: simulate π (else refuse) ...
   double simulate_up_to_s = 0;  // ... or only when the certificate's ramp lasts at most this
+  bool gate = true;             // where the certificate cannot decide, its gated form first
 };
 
 class JerkGuard {
@@ -126,6 +131,12 @@ class JerkGuard {
   PathStep brake_now(const ProfileState& now) const { return brake({now.s, now.v, now.a, 0}, 0, Cursor{0}); }
   // rt-safe. One cycle of the certified ramp to rest with limits a, j from the present state.
   PathStep certified_brake(const ProfileState& now, double a, double j) const { return ramp_cycle(now, 0, a, j, dt_); }
+  // rt-safe. One cycle of a gated certificate's brake (GuardVerdict::cert_a2 > 0) with the gate
+  // gate_mm ahead: before it the ramp to w, past it the ramp to rest.
+  PathStep gated_brake(const ProfileState& now, const GuardVerdict& c) const {
+    return c.cert_gate_mm > 0 ? ramp_cycle(now, c.cert_w, c.cert_a, c.cert_j, dt_)
+                              : ramp_cycle(now, 0, c.cert_a2, c.cert_j2, dt_);
+  }
   // Limits (scaled) of the blocks from the front up to distance `to_mm` from now.
   void limits_until(double to_mm, double& a_min, double& j_min) const;
 
@@ -143,6 +154,7 @@ class JerkGuard {
   bool tail_safe(const ProfileState& x, double p, const Cursor& c) const;
   enum class Cert { Safe, Fails, Unknown };
   Cert certify(const ProfileState& x, double p, const Cursor& c, GuardVerdict& v) const;
+  Cert certify_gated(const ProfileState& x, double p, const Cursor& c, GuardVerdict& v) const;
   bool check(Cursor& c, double p0, double v0, const PathStep& st, GuardVerdict& verdict) const;
   double soft_raw(const Block& b) const;  // soft(k) before the front's is relaxed to v_now
   bool fail(GuardVerdict& v, bool hard, double at, double u, bool stop) const;

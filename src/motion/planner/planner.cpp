@@ -519,6 +519,8 @@ PlanResult Planner::plan(const PathRequest& req, double merge_dev_mm, std::uint3
         }
       }
     }
+    if (!blended && tol > 0 && (a.seg.kind == SegmentKind::Arc || b.seg.kind == SegmentKind::Arc))
+      blended = blend_curves(a, b, tol, std::min(queue_.pending_full_length_ / 2, b.length / 2), blend);
     if (!blended && p_mm > 0) kink(a, b);
     if (a.length > kMinLength_mm) commit(a);
     if (blended) commit(blend);
@@ -544,10 +546,10 @@ double max_curvature(const Block& b) {
 // acceleration (and jerk): v·|t_out,i − t_in,i| ≤ share·a_i·dt, the discrete form of grbl's junction
 // deviation. The setpoints stay on the programmed path (deviation 0). Both neighbours give up that
 // share of their acceleration and jerk, so the kink's one-cycle impulse never adds up past a limit.
-void Planner::kink(Block& a, Block& b) const {
+double Planner::kink_speed(const Block& a, const Block& b) const {
   const Vec dt_vec = b.tangent(0) - a.tangent(a.length);
   const double turn = core::norm(dt_vec);
-  if (turn <= config_.tangent_rad || !(config_.kink_share > 0)) return;
+  if (turn <= config_.tangent_rad || !(config_.kink_share > 0)) return 0;
   const double dt = limits_.period_s;
   double v = kInf;
   for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
@@ -569,7 +571,15 @@ void Planner::kink(Block& a, Block& b) const {
     const double k = max_curvature(*n);
     if (k > 0 && std::isfinite(a_min)) v = std::min(v, std::sqrt(keep * a_min / k) - a_path * dt);
   }
-  if (!(v >= config_.min_kink_speed_mm_s)) return;  // too slow to be worth the lost acceleration: stop
+  if (!(v >= config_.min_kink_speed_mm_s)) return 0;  // too slow to be worth the lost acceleration: stop
+  return v;
+}
+
+// rt-safe. Applies kink_speed: both neighbours give up the kink's share.
+void Planner::kink(Block& a, Block& b) const {
+  const double v = kink_speed(a, b);
+  if (!(v > 0)) return;
+  const double keep = 1 - config_.kink_share;
   a.a_mm_s2 *= keep;
   a.law.scale *= keep;
   a.j_mm_s3 *= keep;
@@ -577,6 +587,140 @@ void Planner::kink(Block& a, Block& b) const {
   b.law.scale *= keep;
   b.j_mm_s3 *= keep;
   b.v2_kink = v * v;
+}
+
+// rt-safe. Corners and curvature steps where an arc meets a line or another arc (docs/planner.md,
+// "Corner blends"):
+//
+//   a ────────────●╮ corner        a's end and b's start are cut back by the arc length d each and
+//        p0 ╰───╮  │ b (an arc)    joined by the quintic of make_g2_blend, which continues each with
+//               ╰──● p1            its tangent and curvature: no kink, no acceleration step.
+//
+// The corner's tangent lines from p0 and p1 give the control legs, the deflection between t0 and
+// t1 the shape. d starts where the lines' quintic would put its midpoint P from the corner (or, on a
+// tangent junction, at √(24·P/Δκ): a transition curve that long shifts the arc by about P), at most
+// half of either piece and one radian of an arc, and shrinks until every sample of the quintic lies
+// within 0.95·P of a or b. It is taken where its speed cap beats the junction's speed without it
+// (a kink or exact stop; on a tangent curvature step, the step's speed by g2_blend_gain).
+bool Planner::blend_curves(Block& a, Block& b, double tol, double d_max, Block& blend) const {
+  const auto curve = [](const Block& k) {
+    return !k.is_blend && (k.seg.kind == SegmentKind::Line || k.seg.kind == SegmentKind::Arc);
+  };
+  if (!curve(a) || !curve(b)) return false;
+  const bool jerk = !(std::isinf(a.j_mm_s3) && std::isinf(b.j_mm_s3));
+  const auto unit = [](const Vec& v) { return v * (1 / core::norm(v)); };  // a spiral's |tangent| ≠ 1
+  const double turn = core::norm(unit(b.seg.tangent(0)) - unit(a.seg.tangent(a.length)));
+  if (turn > 2 * std::cos(1e-3)) return false;  // a reversal: stop
+  const bool tangent = turn <= config_.tangent_rad;
+  double v_alt = 0, gain = 1;  // the junction's speed without a blend, and the margin a blend must beat it by
+  const Vec dk = b.seg.curvature(0) - a.seg.curvature(a.length);
+  if (tangent) {
+    if (!jerk) return false;  // a curvature step costs trapezoids nothing
+    v_alt = std::sqrt(curvature_step_v2(dk, limits_, config_.kink_share));
+    gain = config_.g2_blend_gain;
+  } else {
+    v_alt = kink_speed(a, b);
+  }
+  const double vq = target_speed(a.rapid && b.rapid, std::min(a.feed_mm_s, b.feed_mm_s));
+  if (!(gain * v_alt < std::min({vq, a.v_cap_mm_s, b.v_cap_mm_s}))) return false;  // as fast without
+
+  const double delta = 2 * std::asin(std::min(1.0, turn / 2));
+  double alpha = 0, beta = 0;
+  corner_blend_shape(delta, alpha, beta);
+  const double dkn = core::norm(dk);
+  double d = tangent ? (dkn > 0 ? std::sqrt(24 * tol / dkn) : kInf) : tol / corner_blend_dev(turn, 1.0, alpha, beta);
+  d = std::min(d, d_max);
+  for (const Block* k : {&a, &b})
+    if (k->seg.kind == SegmentKind::Arc) d = std::min(d, k->seg.radius);
+  std::array<Vec, 6> ctrl{};
+  bool fits = false;
+  for (int it = 0; it < 16 && d > kMinLength_mm && !fits; ++it) {
+    const double sa = a.length - d;
+    const Vec p0 = a.seg.point(sa), p1 = b.seg.point(d);
+    const Vec t0 = unit(a.seg.tangent(sa)), t1 = unit(b.seg.tangent(d));
+    // Control legs: p0 + x0·t0 ≈ p1 − x1·t1 (least squares; the tangent lines meet in a plane).
+    const Vec w = p1 - p0;
+    const double c = core::dot(t0, t1), det = 1 - c * c, chord = core::norm(w);
+    double x0 = chord / 2, x1 = chord / 2;
+    if (det > 1e-6) {
+      const double u0 = core::dot(t0, w), u1 = core::dot(t1, w);
+      const double y0 = (u0 - c * u1) / det, y1 = (u1 - c * u0) / det;
+      if (y0 > 0 && y1 > 0 && y0 < 2 * chord && y1 < 2 * chord) {
+        x0 = y0;
+        x1 = y1;
+      }
+    }
+    double al = 0, be = 0;
+    corner_blend_shape(2 * std::asin(std::min(1.0, core::norm(t1 - t0) / 2)), al, be);
+    ctrl = g2_blend_points(p0, t0, a.seg.curvature(sa), x0, p1, t1, b.seg.curvature(d), x1, al, be);
+    // Largest distance from a and b: samples, then the peak refined between its neighbours (it sits
+    // where the nearest of the two changes, a kink that samples alone miss by up to their spacing).
+    const auto off = [&](double u) {
+      const Vec q = bezier_point(ctrl, u);
+      return std::min(a.seg.distance_to(q), b.seg.distance_to(q));
+    };
+    constexpr int kSamples = 32;
+    double dev = 0;
+    int peak = 1;
+    for (int i = 1; i < kSamples; ++i) {
+      const double e = off(static_cast<double>(i) / kSamples);
+      if (e > dev) dev = e, peak = i;
+    }
+    double lo = (peak - 1.0) / kSamples, hi = (peak + 1.0) / kSamples;
+    for (int k = 0; k < 24; ++k) {  // ternary search: the peak is the max of a rising and a falling distance
+      const double m1 = lo + (hi - lo) / 3, m2 = hi - (hi - lo) / 3;
+      const double e1 = off(m1), e2 = off(m2);
+      dev = std::max({dev, e1, e2});
+      if (e1 < e2) lo = m1;
+      else hi = m2;
+    }
+    fits = dev <= 0.95 * tol;
+    if (!fits) d *= std::clamp(0.95 * std::sqrt(tol / dev), 0.3, 0.9);
+  }
+  if (!fits) return false;
+  const SegmentResult q = make_bezier(ctrl);
+  if (!q.ok()) return false;
+  const SegmentLimits ql = segment_limits(q.segment, limits_, config_.centripetal_share, vq);
+  // Worth it only where it saves time. Each side of a corner crossed at v loses about T·(v_s − v)/2v_s
+  // against going on at v_s (its speed: cap and feed; T the ramp's time from v_s to v with its
+  // tangential acceleration at low speed, where the speed-dependent law of trapezoid blocks gives
+  // most of the axes', and its jerk), and the blend's length len costs len/v − len/v_s; a stop is
+  // v = 0. Slow blends of sharp corners, where a stop costs little more, are not taken (a margin of
+  // a tenth there covers what the model leaves out: the quintic's own, lower acceleration).
+  const auto side = [&](const Block& k, double v) {
+    const double vs = std::min(vq, k.v_cap_mm_s), as = std::max(k.a_mm_s2, k.law.at(0)), js = k.j_mm_s3;
+    const double dv = std::max(0.0, vs - v);
+    const double t = !std::isfinite(js) ? dv / as : dv >= as * as / js ? dv / as + as / js : 2 * std::sqrt(dv / js);
+    return t * dv / (2 * vs);
+  };
+  const double v_f = std::min({vq, a.v_cap_mm_s, b.v_cap_mm_s});
+  const auto loss = [&](double v, double len) {
+    return side(a, v) + side(b, v) + (v > 0 ? len / v - len / v_f : 0.0);
+  };
+  if (!(ql.v_max_mm_s > gain * v_alt) || !(loss(ql.v_max_mm_s, q.segment.length) < (tangent ? 1.0 : 0.9) * loss(v_alt, 0)) || !(ql.a_max_mm_s2 > 0) || !std::isfinite(ql.a_max_mm_s2)) return false;
+  // The quintic may bulge past the corner (an arc's side): it must stay inside the travel too.
+  Vec lo, hi;
+  q.segment.bounds(lo, hi);
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i)
+    if (limits_.present(i) && (lo[i] < limits_.axis[i].min_mm || hi[i] > limits_.axis[i].max_mm)) return false;
+  blend = Block{};
+  blend.seg = q.segment;
+  blend.length = q.segment.length;
+  set_limits(blend, ql, jerk ? ql.j_max_mm_s3 : kInf);
+  set_law(blend, [&] { return segment_law(blend.seg, limits_); });
+  blend.rapid = a.rapid && b.rapid;
+  blend.feed_mm_s = std::min(a.feed_mm_s, b.feed_mm_s);
+  blend.tag = a.tag;
+  blend.tag_last = b.tag_last;
+  a.seg = trimmed(a.seg, 0, a.length - d);
+  a.length = a.seg.length;
+  b.seg = trimmed(b.seg, d, b.length);
+  b.length = b.seg.length;
+  // A spiral's tangent is a little longer or shorter than 1 (Segment::arc_bounds), the quintic's is
+  // unit: the speed of the axes changes by that fraction where they meet, a kink like any other.
+  kink(a, blend);
+  kink(blend, b);
+  return true;
 }
 
 // rt-safe

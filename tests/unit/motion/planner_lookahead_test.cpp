@@ -1,6 +1,7 @@
 // Look-ahead: short segments run at the programmed feed, corners are blended within P, G61 stops.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <numbers>
 
 #include "planner_run.hpp"
@@ -121,4 +122,57 @@ TEST(Lookahead, ZeroLengthMovesAreSkipped) {
   EXPECT_EQ(p.push(line_req(xyz(1, 1), xyz(1, 1), 10, 0)), PlanResult::Ok);
   p.flush();
   EXPECT_TRUE(p.queue().empty());
+}
+
+// A line into an arc at 15° (arc-fitted CAM output meets its lines at such angles), then the arc
+// into a line at 30°: unblended, each corner is an exact stop (turning every axis by 0.26–0.5 of
+// the speed in one cycle takes far more than the acceleration allows); blended within P by
+// curvature-continuous quintics (docs/planner.md "Corner blends") each is crossed at speed. G61
+// (P 0) stops at both. Limits kept, end exact, with and without a jerk limit.
+TEST(Lookahead, LineArcCornersAreBlendedWithinP) {
+  const double q = 15 * std::numbers::pi / 180;
+  const core::Vec s0 = xyz(10, 0), c = xyz(10 - 10 * std::sin(q), 10 * std::cos(q));
+  const core::Vec s1 = c + xyz(10 * std::cos(q), 10 * std::sin(q));  // a quarter turn on R10
+  const core::Vec s2 = s1 + xyz(std::cos(9 * q), std::sin(9 * q)) * 10.0;  // 135°: 30° off the arc's end
+  for (const double jerk : {0.0, 10000.0}) {
+    auto lim = xyz_limits(100, 1000);
+    for (int i = 0; i < 3; ++i) lim.axis[i].j_max_mm_s3 = jerk;
+    const auto path = [&](double tol) {
+      std::vector<PathRequest> reqs{line_req(xyz(0, 0), s0, 100, 0, tol)};
+      PathRequest arc = arc_req(make_arc(s0, s1, 0, 1, c[0], c[1], 1), 100, 1);
+      arc.tolerance_mm = tol;
+      reqs.push_back(arc);
+      reqs.push_back(line_req(s1, s2, 100, 2, tol));
+      return reqs;
+    };
+    std::array<double, 2> v_corner{}, best{1e9, 1e9};  // path speed where the setpoints pass nearest each corner
+    const auto hook = [&](std::uint64_t, Interpolator& in) {
+      for (int k = 0; k < 2; ++k) {
+        const double d = core::distance(in.setpoint().pos, k == 0 ? s0 : s1);
+        if (d < best[k]) best[k] = d, v_corner[k] = in.setpoint().path_v;
+      }
+    };
+    const auto blended = run_path(lim, path(0.05), 64, {}, hook);
+    const auto v_blended = v_corner;
+    best = {1e9, 1e9};
+    const auto stopped = run_path(lim, path(0), 64, {}, hook);
+    const std::string what = "jerk " + std::to_string(jerk);
+    ASSERT_TRUE(blended.finished && stopped.finished) << what;
+    EXPECT_LE(blended.fig.deviation_mm, 0.05 + 1e-9) << what;
+    EXPECT_GT(blended.fig.deviation_mm, 0.01) << what;  // the band is used
+    EXPECT_LT(stopped.fig.deviation_mm, 1e-9) << what;
+    for (int k = 0; k < 2; ++k) EXPECT_LT(v_corner[k], 1.0) << what << " corner " << k;  // G61: at rest there
+    // Blended: crossed at speed. Under the jerk limit the 30° corner's quintic (10 mm/s, its
+    // tangential acceleration a twentieth of the arc's) would lose more time than the stop it
+    // replaces, and the planner keeps the stop (Planner::blend_curves).
+    EXPECT_GT(v_blended[0], 15.0) << what;
+    if (jerk == 0) EXPECT_GT(v_blended[1], 15.0) << what;
+    EXPECT_LT(blended.cycles, (jerk > 0 ? 0.95 : 0.9) * stopped.cycles) << what;
+    for (const auto* r : {&blended, &stopped}) {
+      EXPECT_LE(r->fig.v_ratio, 1 + 1e-6) << what << ": " << r->fig.describe();
+      EXPECT_LE(r->fig.a_ratio, 1 + 1e-5) << what << ": " << r->fig.describe();
+      if (jerk > 0) EXPECT_LE(r->fig.j_ratio, 1 + 1e-4) << what << ": " << r->fig.describe();
+      EXPECT_EQ(r->end, s2) << what;
+    }
+  }
 }
