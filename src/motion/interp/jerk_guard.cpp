@@ -453,7 +453,8 @@ bool JerkGuard::tail_safe(const ProfileState& x, double p, const Cursor& c) cons
 // report it, given only when π is that same ramp (uniform: every block π's brakes would scan has
 // the limits of the block the ramp starts in, so its anticipation and jerk never differ). Otherwise
 // Unknown (v then holds the first broken limit as a hint, and v.brake_s the ramp's duration).
-JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Cursor& c, GuardVerdict& v) const {
+JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Cursor& c, GuardVerdict& v,
+                                   std::size_t* gate) const {
   const ProfileState x{0, x0.v, x0.a, 0};
   v.brake_s = kInf;
   if (!(x.v >= 0)) return Cert::Unknown;
@@ -503,6 +504,7 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   const auto enter = [&] {  // blocks ke < ks are indexed (the scan has read them)
     for (; ke < ks && within(start(ke) - p, 0); ++ke) {
       if (g.acc[ke] < a) {
+        if (gate && *gate == 0 && g.acc[ke] < 0.5 * a) *gate = ke;  // the first far lower one: certify_gated's
         a = g.acc[ke];
         dirty = true;
       }
@@ -619,25 +621,19 @@ RampTo ramp_to(const ProfileState& x, double w, double a, double j) {
 // the second is the certificate from (w, a = 0) one cycle of cruising past the gate (the fallback
 // starts it in the first cycle after the gate; a ramp started earlier on the same blocks is slower
 // everywhere and keeps the same limits). Safe only when both are.
-JerkGuard::Cert JerkGuard::certify_gated(const ProfileState& x0, double p, const Cursor& c, GuardVerdict& v) const {
+JerkGuard::Cert JerkGuard::certify_gated(const ProfileState& x0, double p, const Cursor& c, std::size_t k,
+                                         GuardVerdict& v) const {
   const ProfileState x{0, x0.v, x0.a, 0};
-  if (!(x.v > 0)) return Cert::Unknown;
+  if (!(x.v > 0) || !(k > c.k) || k >= n_) return Cert::Unknown;
   double a1 = acc(c.k), j1 = jerk(c.k);
-  if (!(a1 > 0) || !(j1 > 0) || !std::isfinite(j1) || std::abs(x.a) > a1) return Cert::Unknown;
-  // The gate is looked for as far as a ramp to rest with the present block's acceleration and a
-  // quarter of its jerk goes (the certificate's ramp takes the least jerk of a longer scan).
-  const double reach = BrakeRamp(x, a1, 0.25 * j1).d_stop * (1 + kRel) + kAbs + kTouch_mm;
   double cap = std::min(hard(c.k), soft(c.k));
-  std::size_t k = c.k + 1;
-  for (;; ++k) {
-    if (k >= n_) return Cert::Unknown;
-    const double at = start(k) - p;
-    if (at > reach || u2(k) <= 0) return Cert::Unknown;  // no gate before the brake ends or a stop
-    if (acc(k) < 0.5 * a1) break;
-    a1 = std::min(a1, acc(k));
-    j1 = std::min(j1, jerk(k));
-    cap = std::min({cap, hard(k), soft(k), std::sqrt(u2(k))});
+  for (std::size_t i = c.k + 1; i < k; ++i) {
+    if (u2(i) <= 0) return Cert::Unknown;  // a stop before the gate
+    a1 = std::min(a1, acc(i));
+    j1 = std::min(j1, jerk(i));
+    cap = std::min({cap, hard(i), soft(i), std::sqrt(u2(i))});
   }
+  if (!(a1 > 0) || !(j1 > 0) || !std::isfinite(j1) || std::abs(x.a) > a1 || u2(k) <= 0) return Cert::Unknown;
   const double gate = start(k) - p;
   const double w = std::min({x.v, hard(k), soft(k), std::sqrt(u2(k)), cap});
   if (!(w > 0) || !(gate > 0)) return Cert::Unknown;
@@ -665,11 +661,12 @@ GuardVerdict JerkGuard::verify(const PathStep& step, const GuardMode& mode) cons
   if (!check(c, 0, v_now_, step, v) || v.failed()) return v;
   if (mode.certify) {
     const GuardVerdict checked = v;
-    const Cert r = certify(step.x, step.x.s, c, v);
+    std::size_t gate = 0;  // the first block of far lower acceleration the ramp entered (0: none)
+    const Cert r = certify(step.x, step.x.s, c, v, mode.gate ? &gate : nullptr);
     if (r != Cert::Unknown) return v;
-    if (mode.gate) {
+    if (gate > 0) {
       GuardVerdict g = checked;
-      if (certify_gated(step.x, step.x.s, c, g) == Cert::Safe) return g;
+      if (certify_gated(step.x, step.x.s, c, gate, g) == Cert::Safe) return g;
     }
     if (!mode.simulate && !(v.brake_s <= mode.simulate_up_to_s)) {  // refused, with the hint of where the ramp breaks a limit
       if (!v.failed()) fail(v, true, 0, 0, false);

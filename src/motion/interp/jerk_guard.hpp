@@ -153,8 +153,10 @@ class JerkGuard {
   PathStep brake(const ProfileState& x, double p, const Cursor& c) const;
   bool tail_safe(const ProfileState& x, double p, const Cursor& c) const;
   enum class Cert { Safe, Fails, Unknown };
-  Cert certify(const ProfileState& x, double p, const Cursor& c, GuardVerdict& v) const;
-  Cert certify_gated(const ProfileState& x, double p, const Cursor& c, GuardVerdict& v) const;
+  // gate (optional): set to the first block the ramp entered whose acceleration is below half the
+  // least before it, when it is still 0.
+  Cert certify(const ProfileState& x, double p, const Cursor& c, GuardVerdict& v, std::size_t* gate = nullptr) const;
+  Cert certify_gated(const ProfileState& x, double p, const Cursor& c, std::size_t gate, GuardVerdict& v) const;
   bool check(Cursor& c, double p0, double v0, const PathStep& st, GuardVerdict& verdict) const;
   double soft_raw(const Block& b) const;  // soft(k) before the front's is relaxed to v_now
   bool fail(GuardVerdict& v, bool hard, double at, double u, bool stop) const;
