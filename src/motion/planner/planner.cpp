@@ -520,7 +520,7 @@ PlanResult Planner::plan(const PathRequest& req, double merge_dev_mm, std::uint3
       }
     }
     if (!blended && tol > 0 && (a.seg.kind == SegmentKind::Arc || b.seg.kind == SegmentKind::Arc))
-      blended = blend_curves(a, b, tol, std::min(queue_.pending_full_length_ / 2, b.length / 2), blend);
+      blended = blend_curves(a, b, tol, queue_.pending_full_length_ / 2, blend);
     if (!blended && p_mm > 0) kink(a, b);
     if (a.length > kMinLength_mm) commit(a);
     if (blended) commit(blend);
@@ -602,7 +602,7 @@ void Planner::kink(Block& a, Block& b) const {
 // half of either piece and one radian of an arc, and shrinks until every sample of the quintic lies
 // within 0.95·P of a or b. It is taken where its speed cap beats the junction's speed without it
 // (a kink or exact stop; on a tangent curvature step, the step's speed by g2_blend_gain).
-bool Planner::blend_curves(Block& a, Block& b, double tol, double d_max, Block& blend) const {
+bool Planner::blend_curves(Block& a, Block& b, double tol, double da_half, Block& blend) const {
   const auto curve = [](const Block& k) {
     return !k.is_blend && (k.seg.kind == SegmentKind::Line || k.seg.kind == SegmentKind::Arc);
   };
@@ -628,16 +628,21 @@ bool Planner::blend_curves(Block& a, Block& b, double tol, double d_max, Block& 
   double alpha = 0, beta = 0;
   corner_blend_shape(delta, alpha, beta);
   const double dkn = core::norm(dk);
-  double d = tangent ? (dkn > 0 ? std::sqrt(24 * tol / dkn) : kInf) : tol / corner_blend_dev(turn, 1.0, alpha, beta);
-  d = std::min(d, d_max);
-  for (const Block* k : {&a, &b})
-    if (k->seg.kind == SegmentKind::Arc) d = std::min(d, k->seg.radius);
+  const double d0 = tangent ? (dkn > 0 ? std::sqrt(24 * tol / dkn) : kInf) : tol / corner_blend_dev(turn, 1.0, alpha, beta);
+  // Each side gives at most half of its length (the blend at its other end takes the other half)
+  // and one radian of an arc.
+  const auto side_max = [](const Block& k, double half) {
+    return k.seg.kind == SegmentKind::Arc ? std::min(half, k.seg.radius) : half;
+  };
+  const double da_max = side_max(a, da_half), db_max = side_max(b, b.length / 2);
+  double da = std::min(d0, da_max), db = std::min(d0, db_max);
   std::array<Vec, 6> ctrl{};
-  bool fits = false;
-  for (int it = 0; it < 16 && d > kMinLength_mm && !fits; ++it) {
-    const double sa = a.length - d;
-    const Vec p0 = a.seg.point(sa), p1 = b.seg.point(d);
-    const Vec t0 = unit(a.seg.tangent(sa)), t1 = unit(b.seg.tangent(d));
+  // The quintic from a's point da before its end to b's point db after its start; true when it lies
+  // within 0.95·P of a and b (then in ctrl).
+  const auto fit = [&](double ea, double eb, std::array<Vec, 6>& out) {
+    const double sa = a.length - ea;
+    const Vec p0 = a.seg.point(sa), p1 = b.seg.point(eb);
+    const Vec t0 = unit(a.seg.tangent(sa)), t1 = unit(b.seg.tangent(eb));
     // Control legs: p0 + x0·t0 ≈ p1 − x1·t1 (least squares; the tangent lines meet in a plane).
     const Vec w = p1 - p0;
     const double c = core::dot(t0, t1), det = 1 - c * c, chord = core::norm(w);
@@ -652,11 +657,11 @@ bool Planner::blend_curves(Block& a, Block& b, double tol, double d_max, Block& 
     }
     double al = 0, be = 0;
     corner_blend_shape(2 * std::asin(std::min(1.0, core::norm(t1 - t0) / 2)), al, be);
-    ctrl = g2_blend_points(p0, t0, a.seg.curvature(sa), x0, p1, t1, b.seg.curvature(d), x1, al, be);
+    out = g2_blend_points(p0, t0, a.seg.curvature(sa), x0, p1, t1, b.seg.curvature(eb), x1, al, be);
     // Largest distance from a and b: samples, then the peak refined between its neighbours (it sits
     // where the nearest of the two changes, a kink that samples alone miss by up to their spacing).
     const auto off = [&](double u) {
-      const Vec q = bezier_point(ctrl, u);
+      const Vec q = bezier_point(out, u);
       return std::min(a.seg.distance_to(q), b.seg.distance_to(q));
     };
     constexpr int kSamples = 32;
@@ -674,8 +679,33 @@ bool Planner::blend_curves(Block& a, Block& b, double tol, double d_max, Block& 
       if (e1 < e2) lo = m1;
       else hi = m2;
     }
+    return dev;
+  };
+  bool fits = false;
+  for (int it = 0; it < 16 && std::min(da, db) > kMinLength_mm && !fits; ++it) {
+    const double dev = fit(da, db, ctrl);
     fits = dev <= 0.95 * tol;
-    if (!fits) d *= std::clamp(0.95 * std::sqrt(tol / dev), 0.3, 0.9);
+    if (!fits) {
+      const double f = std::clamp(0.95 * std::sqrt(tol / dev), 0.3, 0.9);
+      da *= f;
+      db *= f;
+    }
+  }
+  // One side held to its half (a short arc between two corners) while the other had room: that side
+  // grows while the quintic still fits; a longer transition bends less sharply.
+  if (fits && (da >= da_max) != (db >= db_max)) {
+    const bool grow_a = db >= db_max;
+    for (int it = 0; it < 4; ++it) {
+      double& e = grow_a ? da : db;
+      const double e_max = grow_a ? da_max : db_max;
+      const double next = std::min(1.5 * e, e_max);
+      if (!(next > e * (1 + 1e-9))) break;
+      std::array<Vec, 6> c2{};
+      const double dev = grow_a ? fit(next, db, c2) : fit(da, next, c2);
+      if (!(dev <= 0.95 * tol)) break;
+      e = next;
+      ctrl = c2;
+    }
   }
   if (!fits) return false;
   const SegmentResult q = make_bezier(ctrl);
@@ -712,9 +742,9 @@ bool Planner::blend_curves(Block& a, Block& b, double tol, double d_max, Block& 
   blend.feed_mm_s = std::min(a.feed_mm_s, b.feed_mm_s);
   blend.tag = a.tag;
   blend.tag_last = b.tag_last;
-  a.seg = trimmed(a.seg, 0, a.length - d);
+  a.seg = trimmed(a.seg, 0, a.length - da);
   a.length = a.seg.length;
-  b.seg = trimmed(b.seg, d, b.length);
+  b.seg = trimmed(b.seg, db, b.length);
   b.length = b.seg.length;
   // A spiral's tangent is a little longer or shorter than 1 (Segment::arc_bounds), the quintic's is
   // unit: the speed of the axes changes by that fraction where they meet, a kink like any other.

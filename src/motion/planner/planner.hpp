@@ -113,7 +113,7 @@ class Planner {
   double kink_speed(const Block& a, const Block& b) const;
   // Blends a junction of lines and arcs with at least one arc (a corner, or in jerk mode a
   // curvature step) by a curvature-continuous quintic within tol, trimming a and b; false: none.
-  bool blend_curves(Block& a, Block& b, double tol, double d_max, Block& blend) const;
+  bool blend_curves(Block& a, Block& b, double tol, double da_half, Block& blend) const;  // da_half: half of a as programmed
   // The fastest a move is asked to go: its feed at the highest override (∞ for rapids: the axes').
   double target_speed(bool rapid, double feed_mm_s) const {
     return rapid ? std::numeric_limits<double>::infinity() : feed_mm_s * config_.max_feed_override;

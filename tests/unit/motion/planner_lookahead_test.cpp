@@ -166,12 +166,16 @@ TEST(Lookahead, LineArcCornersAreBlendedWithinP) {
     // tangential acceleration a twentieth of the arc's) would lose more time than the stop it
     // replaces, and the planner keeps the stop (Planner::blend_curves).
     EXPECT_GT(v_blended[0], 15.0) << what;
-    if (jerk == 0) EXPECT_GT(v_blended[1], 15.0) << what;
+    if (jerk == 0) {
+      EXPECT_GT(v_blended[1], 15.0) << what;
+    }
     EXPECT_LT(blended.cycles, (jerk > 0 ? 0.95 : 0.9) * stopped.cycles) << what;
     for (const auto* r : {&blended, &stopped}) {
       EXPECT_LE(r->fig.v_ratio, 1 + 1e-6) << what << ": " << r->fig.describe();
       EXPECT_LE(r->fig.a_ratio, 1 + 1e-5) << what << ": " << r->fig.describe();
-      if (jerk > 0) EXPECT_LE(r->fig.j_ratio, 1 + 1e-4) << what << ": " << r->fig.describe();
+      if (jerk > 0) {
+        EXPECT_LE(r->fig.j_ratio, 1 + 1e-4) << what << ": " << r->fig.describe();
+      }
       EXPECT_EQ(r->end, s2) << what;
     }
   }
