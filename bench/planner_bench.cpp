@@ -86,6 +86,47 @@ static void BM_PlanCornersJerk(benchmark::State& state) {
 }
 BENCHMARK(BM_PlanCornersJerk);
 
+// Planning a line-arc corner (Planner::blend_curves): 5 mm lines each followed by an R2 quarter arc
+// that leaves it at 20° (a corner every push; Arg 1: jerk-limited, where the arc's tangent end onto the
+// next line is blended too). Each push cuts back both pieces, fits a quintic within P (samples and a
+// ternary search against the line and arc) and builds its curve and limits.
+static void BM_PlanArcCorners(benchmark::State& state) {
+  auto lim = xyz();
+  if (state.range(0) != 0)
+    for (int i : {0, 1, 2}) lim.axis[static_cast<std::size_t>(i)].j_max_mm_s3 = 10'000;
+  std::vector<motion::PathRequest> reqs;
+  core::Vec at{};
+  double heading = 0;
+  for (int k = 0; k < 32; ++k) {
+    core::Vec to = at;
+    to[0] += 5 * std::cos(heading);
+    to[1] += 5 * std::sin(heading);
+    reqs.push_back({motion::make_line(at, to), 100, false, static_cast<std::uint32_t>(2 * k)});
+    at = to;
+    // An arc turning left by 90°, starting 20° to the left of the line (a corner), R 2.
+    const double h0 = heading + 20 * 3.141592653589793 / 180;
+    core::Vec c = at;
+    c[0] -= 2 * std::sin(h0);
+    c[1] += 2 * std::cos(h0);
+    const double a1 = std::atan2(at[1] - c[1], at[0] - c[0]) + 3.141592653589793 / 2;
+    to = c;
+    to[0] += 2 * std::cos(a1);
+    to[1] += 2 * std::sin(a1);
+    reqs.push_back({motion::make_arc(at, to, 0, 1, c[0], c[1], 1), 100, false, static_cast<std::uint32_t>(2 * k + 1)});
+    at = to;
+    heading = h0 + 3.141592653589793 / 2;  // the arc's end tangent: the next line goes on from it
+  }
+  motion::Planner planner(lim, 256);
+  std::size_t k = 0;
+  for (auto _ : state) {
+    while (planner.queue().full()) planner.queue().ring().pop();
+    if (k % reqs.size() == 0) planner.queue().clear();  // start again from the first point
+    benchmark::DoNotOptimize(planner.push(reqs[k++ % reqs.size()]));
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()));
+}
+BENCHMARK(BM_PlanArcCorners)->Arg(0)->Arg(1);
+
 // One interpolation cycle over the blended polyline (4 axes), refilled outside the timing.
 static void BM_LookaheadCycle4Axes(benchmark::State& state) {
   const auto reqs = polyline(0.05);

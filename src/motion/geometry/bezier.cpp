@@ -149,6 +149,22 @@ Vec bezier_point(std::span<const Vec> ctrl, double u) {
   return q[0];
 }
 
+BezierPower::BezierPower(std::span<const Vec> ctrl) {
+  // a_j = C(n, j) · Σ_{i ≤ j} (−1)^(j−i) C(j, i) P_i: the j-th forward difference, scaled.
+  n = std::min(ctrl.size(), a.size()) - 1;
+  double cn = 1;  // C(n, j)
+  for (std::size_t j = 0; j <= n; ++j) {
+    Vec d{};
+    double cj = 1;  // C(j, i)
+    for (std::size_t i = 0; i <= j; ++i) {
+      d = d + ctrl[i] * (((j - i) % 2 ? -1.0 : 1.0) * cj);
+      cj = cj * static_cast<double>(j - i) / static_cast<double>(i + 1);
+    }
+    a[j] = d * cn;
+    cn = cn * static_cast<double>(n - j) / static_cast<double>(j + 1);
+  }
+}
+
 Segment g5_cubic_spline(const Vec& start, const Vec& end, double i, double j, double p, double q,
                         std::uint8_t axis0, std::uint8_t axis1) {
   // Off-plane axes: at 1/3 and 2/3 of the way, which makes them linear in u.

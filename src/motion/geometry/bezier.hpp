@@ -52,6 +52,18 @@ std::array<Vec, 6> g2_blend_points(const Vec& p0, const Vec& t0, const Vec& k0, 
                                    const Vec& t1, const Vec& k1, double x1, double alpha, double beta);
 // Point of the polynomial Bézier with these control points at u ∈ [0, 1] (de Casteljau). rt-safe.
 Vec bezier_point(std::span<const Vec> ctrl, double u);
+// The same curve in the power basis, for evaluating it at many u (Horner: n multiply-adds per
+// axis instead of de Casteljau's n(n+1)/2 interpolations). rt-safe.
+struct BezierPower {
+  std::array<Vec, kMaxBezierDegree + 1> a{};  // C(u) = Σ a_j u^j
+  std::size_t n = 0;                          // degree
+  explicit BezierPower(std::span<const Vec> ctrl);
+  Vec at(double u) const {
+    Vec p = a[n];
+    for (std::size_t j = n; j-- > 0;) p = p * u + a[j];
+    return p;
+  }
+};
 
 // Configuration time: appends the rational Bézier as one segment, or as consecutive halves (de
 // Casteljau at u = ½, recursively) while a piece's length table is not accurate to

@@ -148,9 +148,11 @@ double Segment::distance_to(const Vec& p) const {
   const double lo = std::min(0.0, sweep), hi = std::max(0.0, sweep);
   double base = ang - theta0;
   base -= kTwoPi * std::floor((base - lo) / kTwoPi);  // in [lo, lo + 2π)
+  // A circle in its plane (no spiral, no helix): the point at p's angle is the nearest, exactly.
+  const bool circle = dradius == 0 && core::dot(linear, linear) == 0;
   for (double rel = base; rel <= hi + 1e-12; rel += kTwoPi) {
     double s = length * (rel / sweep);
-    for (int it = 0; it < 4; ++it) {  // Newton on f(s) = (P(s) - p)·T(s)
+    for (int it = 0; it < (circle ? 0 : 4); ++it) {  // Newton on f(s) = (P(s) - p)·T(s)
       const Vec d = point(s) - p;
       const double f = core::dot(d, tangent(s));
       const double df = 1.0 + core::dot(d, curvature(s));

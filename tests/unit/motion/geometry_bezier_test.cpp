@@ -293,3 +293,19 @@ TEST(GeometryBezier, G2BlendContinuesEachCurveWithItsTangentAndCurvature) {
                 1e-12);
   }
 }
+
+// The power-basis form the planner evaluates candidate blends with is the same curve as de Casteljau's.
+TEST(GeometryBezier, PowerBasisIsTheSameCurve) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-10, 10);
+  for (std::size_t n = 1; n <= 5; ++n) {
+    std::vector<core::Vec> c(n + 1);
+    for (auto& p : c) p = xy(u(rng), u(rng), u(rng));
+    const BezierPower b(c);
+    for (int k = 0; k <= 20; ++k) {
+      const double t = k / 20.0;
+      EXPECT_LT(core::distance(b.at(t), bezier_point(c, t)), 1e-11) << n << " " << t;
+    }
+    EXPECT_EQ(b.at(0), c.front());
+  }
+}
