@@ -617,3 +617,48 @@ TEST(PlannerJerk, LowAccelerationBlocksAreEnteredAtTheirCapNotFromRest) {
   EXPECT_LT(gated.cycles, 0.85 * ramp.cycles) << gated.cycles << " vs " << ramp.cycles;
   EXPECT_EQ(gated.end, reqs.back().geom.end);
 }
+
+// Seeded chains of lines and arcs joined tangentially (CAM contours: every junction a curvature
+// step, S-bends where arcs turn opposite ways, tiny arcs and lines) with a corner now and then:
+// the blends at arcs (Planner::blend_curves) and the gated certificate must keep every axis within
+// speed, acceleration and jerk, and every setpoint within P of the program.
+TEST(PlannerJerk, RandomTangentChainsOfLinesAndArcsKeepTheLimits) {
+  for (std::uint64_t seed = 1; seed <= 300; ++seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(0, 1);
+    MachineLimits lim;
+    for (int i = 0; i < 3; ++i) lim.axis[i] = {20 + 300 * u(rng), 200 + 5000 * u(rng), 2000 + 100000 * u(rng), -1000, 1000};
+    lim.period_s = 0.001;
+    const double tols[] = {0.0, 0.01, 0.05, 0.2};
+    const double tol = tols[rng() % 4];
+    std::vector<PathRequest> reqs;
+    core::Vec at = xyz(0, 0, 0);
+    double h = 2 * std::numbers::pi * u(rng);  // heading
+    const int n = 3 + static_cast<int>(rng() % 30);
+    for (int k = 0; k < n; ++k) {
+      PathRequest r;
+      r.feed_mm_s = 5 + 300 * u(rng);
+      r.tag = static_cast<std::uint32_t>(k);
+      r.tolerance_mm = tol;
+      if (rng() % 8 == 0) h += (u(rng) < 0.5 ? -1 : 1) * (0.05 + 2.5 * u(rng));  // a corner
+      if (rng() % 2 == 0) {
+        const double len = rng() % 4 == 0 ? 0.01 + 0.1 * u(rng) : 0.5 + 20 * u(rng);
+        r.geom = make_line(at, at + xyz(std::cos(h), std::sin(h)) * len);
+      } else {
+        const double rad = rng() % 4 == 0 ? 0.2 + 0.5 * u(rng) : 0.5 + 20 * u(rng);
+        const double dir = rng() % 2 ? 1.0 : -1.0, sweep = 0.05 + 3 * u(rng);
+        const double c0 = at[0] - dir * rad * std::sin(h), c1 = at[1] + dir * rad * std::cos(h);
+        const double a0 = std::atan2(at[1] - c1, at[0] - c0), a1 = a0 + dir * sweep;
+        const core::Vec to = xyz(c0 + rad * std::cos(a1), c1 + rad * std::sin(a1));
+        r.geom = make_arc(at, to, 0, 1, c0, c1, dir > 0 ? 1 : -1);
+        h += dir * sweep;
+      }
+      reqs.push_back(r);
+      at = r.geom.end;
+    }
+    const auto res = run_path(lim, reqs, 3 + rng() % 200);
+    expect_within(res, tol, ("seed " + std::to_string(seed)).c_str());
+    EXPECT_EQ(res.end, reqs.back().geom.end) << "seed " << seed;
+    if (HasFailure()) break;
+  }
+}
