@@ -66,8 +66,9 @@ void curve_jerk(SegmentLimits& l, double j_axis, double amp_t, double amp_n, dou
   if (amp_t > 1e-12) l.j_max_mm_s3 = std::min(l.j_max_mm_s3, 0.5 * j_axis / amp_t);
   if (kappa > 0 && amp_n > 1e-12) l.v_max_mm_s = std::min(l.v_max_mm_s, std::cbrt(0.25 * j_axis / (kappa * kappa * amp_n)));
 }
-// The 3·v·a_t·κ term, once the speed cap is known (`share` of j_max: a quarter; an eighth on Poly
-// curves, whose other eighth goes to v³·dκ/ds).
+// The 3·v·a_t·κ term, once the speed cap is known (`share` of j_max: a quarter on arcs,
+// kPolyAccJerkShare on Poly curves).
+constexpr double kPolyAccJerkShare = 0.2;
 void curve_jerk_acc(SegmentLimits& l, double j_axis, double amp_n, double kappa, double share = 0.25) {
   if (!(j_axis > 0) || !(kappa > 0) || amp_n < 1e-12 || !std::isfinite(l.v_max_mm_s)) return;
   l.a_max_mm_s2 = std::min(l.a_max_mm_s2, share * j_axis / (3 * l.v_max_mm_s * kappa * amp_n));
@@ -135,18 +136,19 @@ SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double 
       a = std::min(a, (1 - cn_i) * ax.a_max_mm_s2 / d);
       if (kappa > 0) v = std::min(v, std::sqrt(cn_i * ax.a_max_mm_s2 / kappa));
       // Jerk: v³κ²·T_i + v³·dκ/ds·N_i ≤ v³(κ² + κ') takes up to half of j_max (one budget: the two
-      // speed terms of one curve, whichever dominates), 3·v·a_t·κ an eighth, j_t·T_i the rest (three
-      // eighths or more). Half rather than three eighths for the speed terms: the gated certificate
-      // lets the follower brake on the blocks before a curve and enter it at its cap, so the cap
-      // is worth more than the curve's own tangential jerk (LinuxCNC programs 1–5 % faster).
+      // speed terms of one curve, whichever dominates), 3·v·a_t·κ a fifth, j_t·T_i the rest (three
+      // tenths or more). Half and a fifth rather than three eighths and an eighth (swept on the
+      // LinuxCNC programs, docs/planner.md "Poly segments"): since the gated certificate the
+      // follower brakes on the blocks before a curve and enters it at its cap, so the cap and the
+      // acceleration along it are worth more than the curve's own tangential jerk.
       if (ax.j_max_mm_s3 > 0) {
         const double sk = std::isfinite(vt) ? std::min(0.5, vt * vt * vt * k3 / ax.j_max_mm_s3) : 0.5;
-        l.j_max_mm_s3 = std::min(l.j_max_mm_s3, (0.875 - sk) * ax.j_max_mm_s3 / d);
+        l.j_max_mm_s3 = std::min(l.j_max_mm_s3, (1 - kPolyAccJerkShare - sk) * ax.j_max_mm_s3 / d);
         if (k3 > 0) v = std::min(v, std::cbrt(sk * ax.j_max_mm_s3 / k3));
       }
     }
     for (std::size_t i = 0; i < core::kMaxAxes; ++i)
-      if (tmax[i] >= 1e-12) curve_jerk_acc(l, lim.axis[i].j_max_mm_s3, 1.0, kappa, 0.125);
+      if (tmax[i] >= 1e-12) curve_jerk_acc(l, lim.axis[i].j_max_mm_s3, 1.0, kappa, kPolyAccJerkShare);
   }
   return l;
 }
