@@ -59,17 +59,21 @@ namespace {
 
 // Jerk on a curved piece (docs/planner.md, "Jerk"): an axis with tangent share t_i and curvature
 // share n_i sees  j_i = (j_t − v³κ²)·t_i + 3·v·a_t·κ·n_i  (+ v³·dκ/ds·n_i, zero on circles). The
-// budget is split conservatively: j_t gets half, v³κ² a quarter, 3·v·a_t·κ a quarter of j_max_i.
+// budget of an arc's j_max_i is split in fixed shares: j_t two fifths, v³κ² a fifth, 3·v·a_t·κ two
+// fifths (a half, a quarter and a quarter until 2026-12-02: swept on the LinuxCNC programs, the
+// acceleration along an arc is worth more than its cap now that the follower enters it at the cap).
 // `amp_t` bounds |t_i|, `amp_n` bounds the axis's share of the curvature vector.
+constexpr double kArcTangentJerkShare = 0.4, kArcSpeedJerkShare = 0.2, kArcAccJerkShare = 0.4;
 void curve_jerk(SegmentLimits& l, double j_axis, double amp_t, double amp_n, double kappa) {
   if (!(j_axis > 0)) return;
-  if (amp_t > 1e-12) l.j_max_mm_s3 = std::min(l.j_max_mm_s3, 0.5 * j_axis / amp_t);
-  if (kappa > 0 && amp_n > 1e-12) l.v_max_mm_s = std::min(l.v_max_mm_s, std::cbrt(0.25 * j_axis / (kappa * kappa * amp_n)));
+  if (amp_t > 1e-12) l.j_max_mm_s3 = std::min(l.j_max_mm_s3, kArcTangentJerkShare * j_axis / amp_t);
+  if (kappa > 0 && amp_n > 1e-12)
+    l.v_max_mm_s = std::min(l.v_max_mm_s, std::cbrt(kArcSpeedJerkShare * j_axis / (kappa * kappa * amp_n)));
 }
-// The 3·v·a_t·κ term, once the speed cap is known (`share` of j_max: a quarter on arcs,
+// The 3·v·a_t·κ term, once the speed cap is known (`share` of j_max: kArcAccJerkShare on arcs,
 // kPolyAccJerkShare on Poly curves).
 constexpr double kPolyAccJerkShare = 0.2;
-void curve_jerk_acc(SegmentLimits& l, double j_axis, double amp_n, double kappa, double share = 0.25) {
+void curve_jerk_acc(SegmentLimits& l, double j_axis, double amp_n, double kappa, double share = kArcAccJerkShare) {
   if (!(j_axis > 0) || !(kappa > 0) || amp_n < 1e-12 || !std::isfinite(l.v_max_mm_s)) return;
   l.a_max_mm_s2 = std::min(l.a_max_mm_s2, share * j_axis / (3 * l.v_max_mm_s * kappa * amp_n));
 }
