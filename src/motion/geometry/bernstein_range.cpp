@@ -2,8 +2,8 @@
 #include "motion/geometry/bernstein_range.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
-#include <vector>
 
 namespace softmc::motion {
 
@@ -24,14 +24,19 @@ double min_bound(std::span<const double> num, std::span<const double> w) {
   std::copy(w.begin(), w.end(), root.w.begin());
   double best = std::min(num[0] / w[0], num[n] / w[n]);  // values at u = 0 and 1
   double floor = best;
-  std::vector<Piece> stack{root};
-  while (!stack.empty()) {
-    Piece p = stack.back();
-    stack.pop_back();
+  // Depth first: each level leaves at most one piece waiting, so the stack never holds more than
+  // the depth limit + 1 pieces; fixed-size, no allocation (the planner builds its blends with this
+  // inside Planner::push).
+  constexpr int kMaxDepth = 60;
+  std::array<Piece, kMaxDepth + 2> stack;
+  std::size_t top = 0;
+  stack[top++] = root;
+  while (top > 0) {
+    Piece p = stack[--top];
     double lo = p.num[0] / p.w[0];
     for (std::size_t i = 1; i <= n; ++i) lo = std::min(lo, p.num[i] / p.w[i]);
     const double tol = 1e-10 * std::max(1.0, std::abs(best));
-    if (lo >= best - tol || p.depth >= 60) {
+    if (lo >= best - tol || p.depth >= kMaxDepth) {
       floor = std::min(floor, lo);
       continue;
     }
@@ -49,8 +54,8 @@ double min_bound(std::span<const double> num, std::span<const double> w) {
       }
     }
     best = std::min(best, l.num[n] / l.w[n]);  // the value at the split point
-    stack.push_back(l);
-    stack.push_back(r);
+    stack[top++] = l;
+    stack[top++] = r;
   }
   return std::min(best, floor);
 }

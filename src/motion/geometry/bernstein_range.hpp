@@ -3,7 +3,8 @@
 //   f(u) = Σ B_i(u)·num_i / Σ B_i(u)·w_i,  w_i > 0,  u in [0, 1]
 //   The curve lies in the hull of the points num_i / w_i; bisecting (de Casteljau at ½) shrinks
 //   the hull towards the true extremes quadratically; a piece whose hull cannot beat the best
-//   value seen by more than a tolerance is not split further. Configuration time only.
+//   value seen by more than a tolerance is not split further. rt-safe: bounded work (depth 60), a
+//   fixed-size stack, no allocation.
 #pragma once
 
 #include <array>

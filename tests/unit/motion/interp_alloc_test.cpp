@@ -38,3 +38,33 @@ TEST(InterpAlloc, PushFlushAndStepAllocateNothing) {
   EXPECT_EQ(softmc::testing::allocation_count() - before, 0) << "allocations in " << cycles << " cycles";
   EXPECT_GT(cycles, 300);
 }
+
+// Under a jerk limit the planner builds Poly blends inside push (a quintic at each sharp line
+// corner, a quintic where a line meets an arc at an angle or tangentially): their arc-length
+// tables, limits and bounding boxes allocate nothing either (the bounding box's branch and bound
+// once used a growing std::vector).
+TEST(InterpAlloc, PushingCornersThatGetQuinticBlendsAllocatesNothing) {
+  auto lim = xyz_limits(100, 1000);
+  for (int i = 0; i < 3; ++i) lim.axis[i].j_max_mm_s3 = 10000;
+  std::vector<PathRequest> reqs;
+  core::Vec at = xyz(0, 0);
+  for (int k = 0; k < 40; ++k) {
+    const core::Vec a = at + xyz(5, 0), b = a + xyz(0, 5);  // 90° line corner: a quintic
+    reqs.push_back(line_req(at, a, 100, static_cast<std::uint32_t>(3 * k), 0.05));
+    reqs.push_back(line_req(a, b, 100, static_cast<std::uint32_t>(3 * k + 1), 0.05));
+    // A line into a tangent R2 quarter arc: a curvature step, blended.
+    PathRequest arc = arc_req(make_arc(b, b + xyz(2, 2), 0, 1, b[0] + 2, b[1], -1), 100, static_cast<std::uint32_t>(3 * k + 2));
+    arc.tolerance_mm = 0.05;
+    reqs.push_back(arc);
+    at = arc.geom.end;
+  }
+  Planner planner(lim, 512);
+  const long before = softmc::testing::allocation_count();
+  for (const auto& r : reqs) ASSERT_EQ(planner.push(r), PlanResult::Ok);
+  planner.flush();
+  EXPECT_EQ(softmc::testing::allocation_count() - before, 0);
+  std::size_t poly = 0;
+  for (std::size_t k = 0; k < planner.queue().ring().size(); ++k)
+    poly += planner.queue().ring().at(k).seg.kind == SegmentKind::Poly;
+  EXPECT_GT(poly, 60u);  // the blends this is about were built
+}
