@@ -32,13 +32,13 @@ void set_limits(Block& b, const SegmentLimits& l, double j) {
 }
 
 // The largest v² at which a step dk of the curvature vector (a junction of curvatures) moves every
-// jerk-limited axis's acceleration by at most kink_share of j_i·dt within one cycle (∞: no step).
-double curvature_step_v2(const Vec& dk, const MachineLimits& lim, double kink_share) {
+// jerk-limited axis's acceleration by at most `share` of j_i·dt within one cycle (∞: no step).
+double curvature_step_v2(const Vec& dk, const MachineLimits& lim, double share) {
   double v2 = kInf;
   for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
     const double d = std::abs(dk[i]);
     if (d < 1e-12 || !(lim.axis[i].j_max_mm_s3 > 0)) continue;
-    v2 = std::min(v2, kink_share * lim.axis[i].j_max_mm_s3 * lim.period_s / d);
+    v2 = std::min(v2, share * lim.axis[i].j_max_mm_s3 * lim.period_s / d);
   }
   return v2;
 }
@@ -487,7 +487,7 @@ PlanResult Planner::plan(const PathRequest& req, double merge_dev_mm, std::uint3
           const double v_arc =
               blend.length > 0
                   ? std::min(blend.v_cap_mm_s,
-                             std::sqrt(curvature_step_v2(blend.blend.curvature(0), limits_, config_.kink_share)))
+                             std::sqrt(curvature_step_v2(blend.blend.curvature(0), limits_, config_.curvature_step_share)))
                   : 0.0;
           double alpha = 0, beta = 0;
           corner_blend_shape(delta, alpha, beta);
@@ -625,7 +625,7 @@ bool Planner::blend_curves(Block& a, Block& b, double tol, double da_half, Block
   const Vec dk = b.seg.curvature(0) - a.seg.curvature(a.length);
   if (tangent) {
     if (!jerk) return false;  // a curvature step costs trapezoids nothing
-    v_alt = std::sqrt(curvature_step_v2(dk, limits_, config_.kink_share));
+    v_alt = std::sqrt(curvature_step_v2(dk, limits_, config_.curvature_step_share));
     gain = config_.g2_blend_gain;
   } else {
     v_alt = kink_speed(a, b);
@@ -803,12 +803,12 @@ void Planner::commit(const Block& b) {
     nb.v2_junction = turn <= config_.tangent_rad ? cap * cap : std::min(cap * cap, nb.v2_kink);
     // With jerk limits, a jump of the curvature vector (line into arc or blend) steps each axis's
     // acceleration by v²·Δκ_i within one cycle, on top of the path's own jerk in that cycle: the
-    // step is kept within a share (kink_share) of j_i·dt, and both neighbours give up the share the
+    // step is kept within a share (curvature_step_share) of j_i·dt, and both neighbours give up the share the
     // step can actually take at the junction speed, so the two never add up past j_i.
     if (!std::isinf(nb.j_mm_s3) || !std::isinf(prev.j_mm_s3)) {
       const Vec dk = nb.curvature(0) - prev.curvature(prev.length);
       const double dt = limits_.period_s;
-      nb.v2_junction = std::min(nb.v2_junction, curvature_step_v2(dk, limits_, config_.kink_share));
+      nb.v2_junction = std::min(nb.v2_junction, curvature_step_v2(dk, limits_, config_.curvature_step_share));
       double used = 0;  // largest share of an axis's jerk budget the step takes
       for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
         const double d = std::abs(dk[i]);

@@ -40,7 +40,13 @@ struct PlannerConfig {
   double tangential_reserve = 0.25;
   // Corners that are not blended but nearly tangent (arcs in rounded G-code) are crossed at speed
   // within this share of each axis's acceleration/jerk per cycle; the neighbours keep the rest.
-  double kink_share = 0.25;
+  // 0.05 since 2026-12-02 (0.25 before): most such corners are blended now, and the neighbours'
+  // acceleration is worth more than the speed of the few left (docs/planner.md, "kinks").
+  double kink_share = 0.05;
+  // Jerk mode: an unblended step of the curvature at a junction (a line into a tangent arc) moves
+  // each axis's acceleration by at most this share of j·dt in its cycle; the neighbours give up the
+  // share the step takes.
+  double curvature_step_share = 0.25;
   double min_kink_speed_mm_s = 1.0;  // below this the corner is an exact stop instead
   // Naive-CAM merge (LinuxCNC's G64 Q): consecutive lines of one feed become one line while every
   // programmed corner in between lies within Q = merge_share·P of it; 0 = off. With Q ≤ P the path
