@@ -2,6 +2,7 @@
 // centripetal jerk on curves, and the profile selectable per move.
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <numbers>
 #include <cstdio>
 #include <cstdlib>
@@ -86,20 +87,35 @@ TEST(PlannerJerk, CornersAndArcsKeepJerkAndTolerance) {
   EXPECT_EQ(res.end, xyz(10, 0));
 }
 
+// Seeded random paths with random per-axis limits (speed, acceleration, jerk) and a tolerance
+// drawn from `tols`: `make` draws the path; every setpoint must keep every axis's limits and P, and
+// the end must be exact.
+static void expect_random_jerk_paths(std::uint64_t seeds, std::initializer_list<double> tols,
+                              const std::function<std::vector<PathRequest>(std::mt19937_64&,
+                                                                           std::uniform_real_distribution<double>&, double)>& make) {
+  const std::vector<double> tol_of(tols);
+  for (std::uint64_t seed = 1; seed <= seeds; ++seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(0, 1);
+    MachineLimits lim;
+    for (int i = 0; i < 3; ++i) lim.axis[i] = {20 + 300 * u(rng), 200 + 5000 * u(rng), 2000 + 100000 * u(rng), -1000, 1000};
+    lim.period_s = 0.001;
+    const double tol = tol_of[rng() % tol_of.size()];
+    const std::vector<PathRequest> reqs = make(rng, u, tol);
+    const auto res = run_path(lim, reqs, 3 + rng() % 200);
+    expect_within(res, tol, ("seed " + std::to_string(seed)).c_str());
+    EXPECT_EQ(res.end, reqs.back().geom.end) << "seed " << seed;
+    if (::testing::Test::HasFailure()) break;
+  }
+}
+
 // Seeded random paths (lines, arcs, helices, reversals, tiny pieces) with per-axis jerk limits:
 // every setpoint within speed, acceleration and jerk of every axis, and within P of the program.
 // (Seed 2 once entered a 0.0045 mm line between two tiny blends faster than it could brake, 5.4x
 // jerk; seed 2 also crossed a curvature jump at full path jerk, 1.27x: both fixed, see
 // docs/planner.md "Jerk".)
 TEST(PlannerJerk, RandomPathsKeepSpeedAccelerationJerkAndTolerance) {
-  for (std::uint64_t seed = 1; seed <= 300; ++seed) {
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<double> u(0, 1);
-    MachineLimits lim;
-    for (int i = 0; i < 3; ++i) lim.axis[i] = {20 + 300 * u(rng), 200 + 5000 * u(rng), 2000 + 100000 * u(rng), -1000, 1000};
-    lim.period_s = 0.001;
-    const double tols[] = {0.0, 0.01, 0.1, 1.0};
-    const double tol = tols[rng() % 4];
+  expect_random_jerk_paths(300, {0.0, 0.01, 0.1, 1.0}, [](std::mt19937_64& rng, std::uniform_real_distribution<double>& u, double tol) {
     std::vector<PathRequest> reqs;
     core::Vec at = xyz(0, 0, 0);
     const int n = 3 + static_cast<int>(rng() % 25);
@@ -137,11 +153,8 @@ TEST(PlannerJerk, RandomPathsKeepSpeedAccelerationJerkAndTolerance) {
       reqs.push_back(r);
       at = r.geom.end;
     }
-    const auto res = run_path(lim, reqs, 3 + rng() % 200);
-    expect_within(res, tol, ("seed " + std::to_string(seed)).c_str());
-    EXPECT_EQ(res.end, reqs.back().geom.end) << "seed " << seed;
-    if (HasFailure()) break;
-  }
+    return reqs;
+  });
 }
 
 // Feed hold and override act in the cycle after the signal, with the jerk limit kept.
@@ -623,14 +636,7 @@ TEST(PlannerJerk, LowAccelerationBlocksAreEnteredAtTheirCapNotFromRest) {
 // the blends at arcs (Planner::blend_curves) and the gated certificate must keep every axis within
 // speed, acceleration and jerk, and every setpoint within P of the program.
 TEST(PlannerJerk, RandomTangentChainsOfLinesAndArcsKeepTheLimits) {
-  for (std::uint64_t seed = 1; seed <= 300; ++seed) {
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<double> u(0, 1);
-    MachineLimits lim;
-    for (int i = 0; i < 3; ++i) lim.axis[i] = {20 + 300 * u(rng), 200 + 5000 * u(rng), 2000 + 100000 * u(rng), -1000, 1000};
-    lim.period_s = 0.001;
-    const double tols[] = {0.0, 0.01, 0.05, 0.2};
-    const double tol = tols[rng() % 4];
+  expect_random_jerk_paths(300, {0.0, 0.01, 0.05, 0.2}, [](std::mt19937_64& rng, std::uniform_real_distribution<double>& u, double tol) {
     std::vector<PathRequest> reqs;
     core::Vec at = xyz(0, 0, 0);
     double h = 2 * std::numbers::pi * u(rng);  // heading
@@ -656,9 +662,6 @@ TEST(PlannerJerk, RandomTangentChainsOfLinesAndArcsKeepTheLimits) {
       reqs.push_back(r);
       at = r.geom.end;
     }
-    const auto res = run_path(lim, reqs, 3 + rng() % 200);
-    expect_within(res, tol, ("seed " + std::to_string(seed)).c_str());
-    EXPECT_EQ(res.end, reqs.back().geom.end) << "seed " << seed;
-    if (HasFailure()) break;
-  }
+    return reqs;
+  });
 }
