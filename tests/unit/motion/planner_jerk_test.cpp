@@ -665,3 +665,31 @@ TEST(PlannerJerk, RandomTangentChainsOfLinesAndArcsKeepTheLimits) {
     return reqs;
   });
 }
+
+// The blends at arcs continue each neighbour with its position, unit tangent and curvature vector
+// (make_g2_blend): the planned blocks join with no step of either, so no axis's acceleration steps
+// at a junction (a G1-only blend would pass the limits only through the junction's speed limit).
+TEST(PlannerJerk, CurveBlendsJoinTheirNeighboursWithTheirCurvature) {
+  const auto lim = jerk_limits(100, 1000, 10000);
+  std::vector<PathRequest> reqs{line_req(xyz(0, 0), xyz(10, 0), 100, 0, 0.05)};
+  PathRequest arc = arc_req(make_arc(xyz(10, 0), xyz(12, 2), 0, 1, 10, 2, 1), 100, 1);  // tangent R2
+  arc.tolerance_mm = 0.05;
+  reqs.push_back(arc);
+  // A corner: on at 20° to the arc's end tangent (+y).
+  reqs.push_back(line_req(xyz(12, 2), xyz(12 - 10 * std::sin(0.35), 2 + 10 * std::cos(0.35)), 100, 2, 0.05));
+  Planner planner(lim, 16);
+  for (const auto& r : reqs) ASSERT_EQ(planner.push(r), PlanResult::Ok);
+  planner.flush();
+  const auto& ring = planner.queue().ring();
+  std::size_t poly = 0;
+  for (std::size_t k = 0; k + 1 < ring.size(); ++k) {
+    const Block& a = ring.at(k);
+    const Block& b = ring.at(k + 1);
+    poly += b.seg.kind == SegmentKind::Poly;
+    EXPECT_LT(core::distance(a.end(), b.start()), 1e-12) << k;
+    EXPECT_LT(core::norm(a.tangent(a.length) - b.tangent(0)), 1e-9) << k;
+    const core::Vec ka = a.curvature(a.length), kb = b.curvature(0);
+    EXPECT_LT(core::norm(ka - kb), 1e-6 * std::max(1.0, core::norm(ka))) << k << ": " << core::norm(ka) << " vs " << core::norm(kb);
+  }
+  EXPECT_EQ(poly, 2u);  // the tangent step and the corner were both blended
+}
