@@ -57,6 +57,9 @@ struct InterpolatorConfig {
   // Jerk mode: where the certificate cannot decide, its gated form (two ramps: to the speed a block
   // of far lower acceleration allows at its start, then to rest from there; jerk_guard.cpp) first.
   bool guard_gate = true;
+  // Tests: from this jerk-mode cycle on every candidate is refused, so the fallback brake certified
+  // last (plain or gated) runs to rest and its limits show on the trace (−1: never).
+  long long guard_refuse_from_cycle = -1;
 };
 
 // True when any present axis has a jerk limit (blocks then carry a finite j_mm_s3: the jerk follower runs).
@@ -96,6 +99,8 @@ class Interpolator {
   std::uint64_t jerk_cycles() const { return jerk_cycles_; }
   std::uint64_t guard_simulations() const { return guard_simulations_; }
   std::uint64_t guard_verifies() const { return guard_verifies_; }  // candidates checked
+  // Jerk mode: the fallback brake kept from the last accepted step (its cert_* fields).
+  const GuardVerdict& fallback() const { return cert_; }
   std::uint64_t guard_groups_skipped() const { return scratch_.groups_skipped; }  // GuardScratch
   // At rest on the path because of a hold, an enable drop or a stop in progress.
   bool halted_at_rest() const { return sp_.moving && sp_.path_v == 0 && halt(); }

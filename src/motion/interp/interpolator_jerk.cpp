@@ -77,7 +77,10 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   mode.simulate_up_to_s = config_.guard_short_brake_cycles * dt;
   mode.gate = config_.guard_gate;
   PathStep step = ramp_cycle(now, vt, a_c, j_c, dt);
-  const GuardVerdict first = guard.verify(step, mode);
+  const bool refuse = config_.guard_refuse_from_cycle >= 0 &&
+                      jerk_cycles_ >= static_cast<std::uint64_t>(config_.guard_refuse_from_cycle);
+  GuardVerdict first = guard.verify(step, mode);
+  if (refuse) first.hard_ok = false;
   ++jerk_cycles_;
   ++guard_verifies_;
   guard_simulations_ += first.simulated ? 1 : 0;
@@ -101,6 +104,7 @@ const Setpoint& Interpolator::step_jerk(double dt) {
     }
     cand[m++] = jerk_cycle(now, 0, dt);
     cand[m++] = jerk_cycle(now, -j_now, dt);
+    if (refuse) m = 0;
     // Faster first; at equal speed, farther (a stop landing on its point beats staying short of it).
     const auto ahead = [](const PathStep& l, const PathStep& r) {
       return l.x.v > r.x.v || (l.x.v == r.x.v && l.x.s > r.x.s);

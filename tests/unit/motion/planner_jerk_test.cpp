@@ -631,12 +631,9 @@ TEST(PlannerJerk, LowAccelerationBlocksAreEnteredAtTheirCapNotFromRest) {
   EXPECT_EQ(gated.end, reqs.back().geom.end);
 }
 
-// Seeded chains of lines and arcs joined tangentially (CAM contours: every junction a curvature
-// step, S-bends where arcs turn opposite ways, tiny arcs and lines) with a corner now and then:
-// the blends at arcs (Planner::blend_curves) and the gated certificate must keep every axis within
-// speed, acceleration and jerk, and every setpoint within P of the program.
-TEST(PlannerJerk, RandomTangentChainsOfLinesAndArcsKeepTheLimits) {
-  expect_random_jerk_paths(300, {0.0, 0.01, 0.05, 0.2}, [](std::mt19937_64& rng, std::uniform_real_distribution<double>& u, double tol) {
+// A chain of lines and arcs joined tangentially, with a corner now and then (the draws of
+// RandomTangentChainsOfLinesAndArcsKeepTheLimits).
+static std::vector<PathRequest> tangent_chain(std::mt19937_64& rng, std::uniform_real_distribution<double>& u, double tol) {
     std::vector<PathRequest> reqs;
     core::Vec at = xyz(0, 0, 0);
     double h = 2 * std::numbers::pi * u(rng);  // heading
@@ -663,7 +660,49 @@ TEST(PlannerJerk, RandomTangentChainsOfLinesAndArcsKeepTheLimits) {
       at = r.geom.end;
     }
     return reqs;
-  });
+}
+
+// Seeded chains of lines and arcs joined tangentially (CAM contours: every junction a curvature
+// step, S-bends where arcs turn opposite ways, tiny arcs and lines) with a corner now and then:
+// the blends at arcs (Planner::blend_curves) and the gated certificate must keep every axis within
+// speed, acceleration and jerk, and every setpoint within P of the program.
+TEST(PlannerJerk, RandomTangentChainsOfLinesAndArcsKeepTheLimits) {
+  expect_random_jerk_paths(300, {0.0, 0.01, 0.05, 0.2}, tangent_chain);
+}
+
+// The fallback brake the interpolator keeps (the plain certificate's ramp to rest, or the gated
+// one: ramp to a gate's speed, then to rest from past the gate) is only run for a cycle or two in
+// normal runs. Refusing every candidate from a chosen cycle on (InterpolatorConfig::
+// guard_refuse_from_cycle) makes it run to rest from wherever the follower was: every axis must stay
+// within its speed, acceleration and jerk, and every setpoint within P, all the way.
+TEST(PlannerJerk, TheKeptFallbackBrakeRunsToRestWithinEveryLimit) {
+  std::uint64_t gated_runs = 0;
+  for (std::uint64_t seed = 1; seed <= 120; ++seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(0, 1);
+    MachineLimits lim;
+    for (int i = 0; i < 3; ++i) lim.axis[i] = {20 + 300 * u(rng), 200 + 5000 * u(rng), 2000 + 100000 * u(rng), -1000, 1000};
+    lim.period_s = 0.001;
+    const double tol = std::array{0.01, 0.05, 0.2}[rng() % 3];
+    const auto reqs = tangent_chain(rng, u, tol);
+    InterpolatorConfig ic;
+    ic.guard_refuse_from_cycle = static_cast<long long>(20 + rng() % 3000);
+    bool gated = false;
+    const auto hook = [&](std::uint64_t c, Interpolator& in) {
+      if (static_cast<long long>(c) == ic.guard_refuse_from_cycle) gated = in.fallback().cert_a2 > 0;
+    };
+    const auto res = run_path(lim, reqs, 3 + rng() % 200, {}, hook, ic.guard_refuse_from_cycle + 8000, ic);
+    const std::string what = "seed " + std::to_string(seed);
+    ASSERT_EQ(res.error, PlanResult::Ok) << what;
+    EXPECT_TRUE(res.fig.finite) << what;
+    EXPECT_LE(res.fig.v_ratio, 1 + kRatioNoise) << what << ": " << res.fig.describe();
+    EXPECT_LE(res.fig.a_ratio, 1 + kRatioNoise) << what << ": " << res.fig.describe();
+    EXPECT_LE(res.fig.j_ratio, 1 + kRatioNoise) << what << ": " << res.fig.describe();
+    EXPECT_LE(res.fig.deviation_mm, tol + 1e-9) << what << ": " << res.fig.describe();
+    gated_runs += gated;
+    if (HasFailure()) break;
+  }
+  EXPECT_GT(gated_runs, 5u);  // some of them ran a gated brake
 }
 
 // The blends at arcs continue each neighbour with its position, unit tangent and curvature vector
