@@ -626,7 +626,10 @@ JerkGuard::Cert JerkGuard::certify_gated(const ProfileState& x0, double p, const
   const ProfileState x{0, x0.v, x0.a, 0};
   if (!(x.v > 0) || !(k > c.k) || k >= n_) return Cert::Unknown;
   double a1 = acc(c.k), j1 = jerk(c.k);
-  double cap = std::min(hard(c.k), soft(c.k));
+  // The front block's soft cap as it is, not relaxed to the present speed: the first stage may
+  // cruise at w, and only a ramp down is allowed above it (after an override drop the plain
+  // certificate's ramp to rest decides).
+  double cap = std::min(hard(c.k), need(c.k).soft[c.k]);
   for (std::size_t i = c.k + 1; i < k; ++i) {
     if (u2(i) <= 0) return Cert::Unknown;  // a stop before the gate
     a1 = std::min(a1, acc(i));
