@@ -87,6 +87,15 @@ TEST(PlannerJerk, CornersAndArcsKeepJerkAndTolerance) {
   EXPECT_EQ(res.end, xyz(10, 0));
 }
 
+// Per-axis limits drawn at random: speed 20–320 mm/s, acceleration 200–5200 mm/s², jerk
+// 2 000–102 000 mm/s³, travel ±1000 mm, 1 ms cycle.
+static MachineLimits random_jerk_limits(std::mt19937_64& rng, std::uniform_real_distribution<double>& u) {
+  MachineLimits lim;
+  for (int i = 0; i < 3; ++i) lim.axis[i] = {20 + 300 * u(rng), 200 + 5000 * u(rng), 2000 + 100000 * u(rng), -1000, 1000};
+  lim.period_s = 0.001;
+  return lim;
+}
+
 // Seeded random paths with random per-axis limits (speed, acceleration, jerk) and a tolerance
 // drawn from `tols`: `make` draws the path; every setpoint must keep every axis's limits and P, and
 // the end must be exact.
@@ -97,9 +106,7 @@ static void expect_random_jerk_paths(std::uint64_t seeds, std::initializer_list<
   for (std::uint64_t seed = 1; seed <= seeds; ++seed) {
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> u(0, 1);
-    MachineLimits lim;
-    for (int i = 0; i < 3; ++i) lim.axis[i] = {20 + 300 * u(rng), 200 + 5000 * u(rng), 2000 + 100000 * u(rng), -1000, 1000};
-    lim.period_s = 0.001;
+    const MachineLimits lim = random_jerk_limits(rng, u);
     const double tol = tol_of[rng() % tol_of.size()];
     const std::vector<PathRequest> reqs = make(rng, u, tol);
     const auto res = run_path(lim, reqs, 3 + rng() % 200);
@@ -634,32 +641,32 @@ TEST(PlannerJerk, LowAccelerationBlocksAreEnteredAtTheirCapNotFromRest) {
 // A chain of lines and arcs joined tangentially, with a corner now and then (the draws of
 // RandomTangentChainsOfLinesAndArcsKeepTheLimits).
 static std::vector<PathRequest> tangent_chain(std::mt19937_64& rng, std::uniform_real_distribution<double>& u, double tol) {
-    std::vector<PathRequest> reqs;
-    core::Vec at = xyz(0, 0, 0);
-    double h = 2 * std::numbers::pi * u(rng);  // heading
-    const int n = 3 + static_cast<int>(rng() % 30);
-    for (int k = 0; k < n; ++k) {
-      PathRequest r;
-      r.feed_mm_s = 5 + 300 * u(rng);
-      r.tag = static_cast<std::uint32_t>(k);
-      r.tolerance_mm = tol;
-      if (rng() % 8 == 0) h += (u(rng) < 0.5 ? -1 : 1) * (0.05 + 2.5 * u(rng));  // a corner
-      if (rng() % 2 == 0) {
-        const double len = rng() % 4 == 0 ? 0.01 + 0.1 * u(rng) : 0.5 + 20 * u(rng);
-        r.geom = make_line(at, at + xyz(std::cos(h), std::sin(h)) * len);
-      } else {
-        const double rad = rng() % 4 == 0 ? 0.2 + 0.5 * u(rng) : 0.5 + 20 * u(rng);
-        const double dir = rng() % 2 ? 1.0 : -1.0, sweep = 0.05 + 3 * u(rng);
-        const double c0 = at[0] - dir * rad * std::sin(h), c1 = at[1] + dir * rad * std::cos(h);
-        const double a0 = std::atan2(at[1] - c1, at[0] - c0), a1 = a0 + dir * sweep;
-        const core::Vec to = xyz(c0 + rad * std::cos(a1), c1 + rad * std::sin(a1));
-        r.geom = make_arc(at, to, 0, 1, c0, c1, dir > 0 ? 1 : -1);
-        h += dir * sweep;
-      }
-      reqs.push_back(r);
-      at = r.geom.end;
+  std::vector<PathRequest> reqs;
+  core::Vec at = xyz(0, 0, 0);
+  double h = 2 * std::numbers::pi * u(rng);  // heading
+  const int n = 3 + static_cast<int>(rng() % 30);
+  for (int k = 0; k < n; ++k) {
+    PathRequest r;
+    r.feed_mm_s = 5 + 300 * u(rng);
+    r.tag = static_cast<std::uint32_t>(k);
+    r.tolerance_mm = tol;
+    if (rng() % 8 == 0) h += (u(rng) < 0.5 ? -1 : 1) * (0.05 + 2.5 * u(rng));  // a corner
+    if (rng() % 2 == 0) {
+      const double len = rng() % 4 == 0 ? 0.01 + 0.1 * u(rng) : 0.5 + 20 * u(rng);
+      r.geom = make_line(at, at + xyz(std::cos(h), std::sin(h)) * len);
+    } else {
+      const double rad = rng() % 4 == 0 ? 0.2 + 0.5 * u(rng) : 0.5 + 20 * u(rng);
+      const double dir = rng() % 2 ? 1.0 : -1.0, sweep = 0.05 + 3 * u(rng);
+      const double c0 = at[0] - dir * rad * std::sin(h), c1 = at[1] + dir * rad * std::cos(h);
+      const double a0 = std::atan2(at[1] - c1, at[0] - c0), a1 = a0 + dir * sweep;
+      const core::Vec to = xyz(c0 + rad * std::cos(a1), c1 + rad * std::sin(a1));
+      r.geom = make_arc(at, to, 0, 1, c0, c1, dir > 0 ? 1 : -1);
+      h += dir * sweep;
     }
-    return reqs;
+    reqs.push_back(r);
+    at = r.geom.end;
+  }
+  return reqs;
 }
 
 // Seeded chains of lines and arcs joined tangentially (CAM contours: every junction a curvature
@@ -680,9 +687,7 @@ TEST(PlannerJerk, TheKeptFallbackBrakeRunsToRestWithinEveryLimit) {
   for (std::uint64_t seed = 1; seed <= 120; ++seed) {
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> u(0, 1);
-    MachineLimits lim;
-    for (int i = 0; i < 3; ++i) lim.axis[i] = {20 + 300 * u(rng), 200 + 5000 * u(rng), 2000 + 100000 * u(rng), -1000, 1000};
-    lim.period_s = 0.001;
+    const MachineLimits lim = random_jerk_limits(rng, u);
     const double tol = std::array{0.01, 0.05, 0.2}[rng() % 3];
     const auto reqs = tangent_chain(rng, u, tol);
     InterpolatorConfig ic;
