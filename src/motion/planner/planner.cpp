@@ -23,6 +23,15 @@ void corner_blend_shape(double delta, double& alpha, double& beta) {
   alpha = 0.46 + 0.5 * beta;
 }
 
+// A corner blend between a and b: a rapid only between rapids, the slower feed, and the tags of
+// the instructions it runs from (a's) into (b's last).
+void join_blend(Block& blend, const Block& a, const Block& b) {
+  blend.rapid = a.rapid && b.rapid;
+  blend.feed_mm_s = std::min(a.feed_mm_s, b.feed_mm_s);
+  blend.tag = a.tag;
+  blend.tag_last = b.tag_last;
+}
+
 // A block's speed limits from its segment's (j: its path jerk, ∞ without a jerk limit).
 void set_limits(Block& b, const SegmentLimits& l, double j) {
   b.a_mm_s2 = l.a_max_mm_s2;
@@ -514,10 +523,7 @@ PlanResult Planner::plan(const PathRequest& req, double merge_dev_mm, std::uint3
           const Vec corner = a.seg.end;
           const Vec p1 = corner - a.seg.dir * d;
           const Vec p2 = corner + b.seg.dir * d;
-          blend.rapid = a.rapid && b.rapid;
-          blend.feed_mm_s = std::min(a.feed_mm_s, b.feed_mm_s);
-          blend.tag = a.tag;
-          blend.tag_last = b.tag_last;  // it runs from a into b
+          join_blend(blend, a, b);
           // Shorten both lines (same direction, so their limits stay).
           const Vec a_start = a.seg.start;
           a.seg = make_line(a_start, p1);
@@ -763,10 +769,7 @@ bool Planner::blend_curves(Block& a, Block& b, double tol, double da_half, Block
   blend.length = q.segment.length;
   set_limits(blend, ql, jerk ? ql.j_max_mm_s3 : kInf);
   set_law(blend, [&] { return segment_law(blend.seg, limits_); });
-  blend.rapid = a.rapid && b.rapid;
-  blend.feed_mm_s = std::min(a.feed_mm_s, b.feed_mm_s);
-  blend.tag = a.tag;
-  blend.tag_last = b.tag_last;
+  join_blend(blend, a, b);
   a.seg = trimmed(a.seg, 0, a.length - da);
   a.length = a.seg.length;
   b.seg = trimmed(b.seg, db, b.length);
