@@ -1,6 +1,8 @@
 // The [planner] keys reach the planner of a whole run: tolerance, look-ahead window, feed override.
 #include <gtest/gtest.h>
 
+#include <utility>
+
 #include "machine/config.hpp"
 #include "program/iso/parser.hpp"
 #include "report/summary.hpp"
@@ -71,21 +73,26 @@ TEST(PlannerConfig, LookaheadKeySizesTheWindow) {
   EXPECT_LE(short_window.deviation_mm, 0.05 + 1e-9);
 }
 
-// planner.smoothing_turn_deg reaches the channel: on a jerk-limited machine the surfacing program's
-// lines run as a C² spline by default (20°), within the same P of the program, several times faster
-// than as lines and blend arcs (0 = off), whose curvature steps cap the speed at every junction.
-TEST(PlannerConfig, SmoothingKeyTurnsCamRunsIntoASpline) {
-  const auto prog = load("examples/gcode/bench/surfacing.ngc");
+// A program on the machine of the LinuxCNC comparison (100 mm/s, 1000 mm/s², 10 000 mm/s³ on every
+// axis, P 0.05): run with `off` set, then with the defaults.
+static std::pair<Outcome, Outcome> jerk_runs_with_and_without(const std::string& rel, const std::string& off) {
+  const auto prog = load(rel);
   std::vector<std::string> sets{"axes.z.min_mm=-10", "planner.tolerance_mm=0.05"};
   for (const char* a : {"x", "y", "z"}) {
     sets.push_back(std::string("axes.") + a + ".max_vel_mm_s=100");
     sets.push_back(std::string("axes.") + a + ".max_acc_mm_s2=1000");
     sets.push_back(std::string("axes.") + a + ".max_jerk_mm_s3=10000");
   }
-  auto off = sets;
-  off.push_back("planner.smoothing_turn_deg=0");
-  const auto blended = run(prog, off);
-  const auto smoothed = run(prog, sets);
+  auto with_off = sets;
+  with_off.push_back(off);
+  return {run(prog, with_off), run(prog, sets)};
+}
+
+// planner.smoothing_turn_deg reaches the channel: on a jerk-limited machine the surfacing program's
+// lines run as a C² spline by default (20°), within the same P of the program, several times faster
+// than as lines and blend arcs (0 = off), whose curvature steps cap the speed at every junction.
+TEST(PlannerConfig, SmoothingKeyTurnsCamRunsIntoASpline) {
+  const auto [blended, smoothed] = jerk_runs_with_and_without("examples/gcode/bench/surfacing.ngc", "planner.smoothing_turn_deg=0");
   EXPECT_LE(blended.deviation_mm, 0.05 + 1e-9);
   EXPECT_LE(smoothed.deviation_mm, 0.05 + 1e-9);
   EXPECT_LT(smoothed.time_s, 0.5 * blended.time_s) << smoothed.time_s << " vs " << blended.time_s;
@@ -125,4 +132,15 @@ TEST(PlannerConfig, MergedLinesAtRestAreMeasuredAtTheirLastInstruction) {
   ASSERT_TRUE(res.ok) << res.result;
   const auto s = report::summarize(prog, cfg, res.trace);
   EXPECT_LT(s.max_path_deviation_mm, 0.05 + 1e-9);
+}
+
+// planner.fillet_share reaches the planner: on a jerk-limited machine pocket.ngc's R0.5 corner arcs
+// (each between two lines it is tangent to) run as one quintic from line to line by default,
+// within the same P of the program, and the pocket takes a tenth less time than with the arcs
+// (0 = off), which a jerk limit enters and leaves through curvature steps at 1–3 mm/s.
+TEST(PlannerConfig, FilletKeyRunsCornerArcsAsOneQuintic) {
+  const auto [arcs, fillets] = jerk_runs_with_and_without("examples/gcode/bench/pocket.ngc", "planner.fillet_share=0");
+  EXPECT_LE(arcs.deviation_mm, 0.05 + 1e-9);
+  EXPECT_LE(fillets.deviation_mm, 0.05 + 1e-9);
+  EXPECT_LT(fillets.time_s, 0.92 * arcs.time_s) << fillets.time_s << " vs " << arcs.time_s;
 }

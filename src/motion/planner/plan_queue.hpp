@@ -1,7 +1,8 @@
-// The look-ahead window between planner and interpolator: committed blocks plus one pending block.
+// The look-ahead window between planner and interpolator: committed blocks plus one pending block
+// (and, in jerk mode, an arc held after it until the next move shows whether it is a fillet).
 //
-//   push ─► [ pending ] ─commit─► ring: [ front (executing) | 1 | 2 | ... | back ] ─► interpolator
-//             (its end may still be cut by the next corner's blend)      (its exit = 0: always stoppable)
+//   push ─► [ held arc ] [ pending ] ─commit─► ring: [ front (executing) | 1 | ... | back ] ─► interpolator
+//                          (its end may still be cut by the next corner's blend)  (its exit = 0: always stoppable)
 //
 // Committed blocks never change geometry again; the planner only raises their v2_entry_max, so an
 // exit speed the interpolator has committed to stays feasible. rt-safe throughout.
@@ -33,21 +34,25 @@ struct MergeStage {
 
 class PlanQueue {
  public:
-  // Spare slots beyond what is asked: a push may commit up to four blocks (the merged line held back
-  // with its blend, then the new move with its blend) and a flush up to three more.
-  static constexpr std::size_t kSpare = 4;
+  // Spare slots beyond what is asked: a push may commit up to six blocks (the merged line held back,
+  // releasing a held arc: the line before it, their blend, the arc and its blend; then the new move
+  // with its blend) and a flush after it up to three more (a held arc released, and its end).
+  static constexpr std::size_t kSpare = 10;
   explicit PlanQueue(std::size_t capacity) : ring_(capacity + kSpare) {}
 
-  // Free slots for one push and the flush after it: five.
+  // Free slots for one push and the flush after it: eleven.
   bool full() const { return ring_.capacity() - ring_.size() < kSpare + 1; }
-  bool empty() const { return ring_.empty() && !has_pending_ && !has_stage_; }
-  std::size_t size() const { return ring_.size() + (has_pending_ ? 1 : 0) + (has_stage_ ? 1 : 0); }
+  bool empty() const { return ring_.empty() && !has_pending_ && !has_stage_ && !has_held_; }
+  std::size_t size() const {
+    return ring_.size() + (has_pending_ ? 1 : 0) + (has_stage_ ? 1 : 0) + (has_held_ ? 1 : 0);
+  }
   std::size_t capacity() const { return ring_.capacity() - kSpare; }
   // Drops everything planned, pending included (a fault, or the end of a stop).
   void clear() {
     ring_.clear();
     has_pending_ = false;
     has_stage_ = false;
+    has_held_ = false;
     unsettled_ = 0;
   }
 
@@ -80,6 +85,9 @@ class PlanQueue {
   bool has_pending_ = false;
   MergeStage stage_;                // the line before the pending block's, still merging
   bool has_stage_ = false;
+  Block held_;                      // a fillet arc after the pending line, waiting for the line after it
+  double held_p_mm_ = 0;            // its tolerance P
+  bool has_held_ = false;
   std::size_t unsettled_ = 0;  // blocks committed since the last settle()
 };
 

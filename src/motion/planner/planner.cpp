@@ -40,6 +40,43 @@ void set_limits(Block& b, const SegmentLimits& l, double j) {
   b.j_mm_s3 = j;
 }
 
+// rt-safe. Largest off(u) over u ∈ (0, 1) — the distance of a blend's point from the curves it
+// joins: samples, then the peak refined between its neighbours (it sits where the nearest of the
+// curves changes, a kink that samples alone miss by up to their spacing).
+template <class Off>
+double peak_distance(const Off& off) {
+  constexpr int kSamples = 32;
+  double dev = 0;
+  int peak = 1;
+  for (int i = 1; i < kSamples; ++i) {
+    const double e = off(static_cast<double>(i) / kSamples);
+    if (e > dev) dev = e, peak = i;
+  }
+  // Golden-section search: the peak is the max of a rising and a falling distance (unimodal there);
+  // 20 steps narrow the two sample spacings to 1e-4 of them.
+  constexpr double kG = 0.6180339887498949;
+  double lo = (peak - 1.0) / kSamples, hi = (peak + 1.0) / kSamples;
+  double m1 = hi - kG * (hi - lo), m2 = lo + kG * (hi - lo);
+  double e1 = off(m1), e2 = off(m2);
+  for (int k = 0; k < 20; ++k) {
+    dev = std::max({dev, e1, e2});
+    if (e1 < e2) {
+      lo = m1;
+      m1 = m2;
+      e1 = e2;
+      m2 = lo + kG * (hi - lo);
+      e2 = off(m2);
+    } else {
+      hi = m2;
+      m2 = m1;
+      e2 = e1;
+      m1 = hi - kG * (hi - lo);
+      e1 = off(m1);
+    }
+  }
+  return std::max({dev, e1, e2});
+}
+
 // The largest v² at which a step dk of the curvature vector (a junction of curvatures) moves every
 // jerk-limited axis's acceleration by at most `share` of j_i·dt within one cycle (∞: no step).
 double curvature_step_v2(const Vec& dk, const MachineLimits& lim, double share) {
@@ -449,12 +486,42 @@ PlanResult Planner::plan(const PathRequest& req, double merge_dev_mm, std::uint3
   set_limits(b, sl, req.profile == ProfileKind::Trapezoid ? kInf : sl.j_max_mm_s3);
   set_law(b, [&] { return segment_law(req.geom, limits_); });
   b.feed_mm_s = req.rapid ? kInf : req.feed_mm_s;
-  const double full_length = b.length;
+  advance(b, req.tolerance_mm < 0 ? config_.tolerance_mm : req.tolerance_mm);
+  return PlanResult::Ok;
+}
 
+// rt-safe. The next block b (as programmed, with tolerance p_mm) after the pending one: a held arc
+// first becomes a fillet with b or is planned on its own; an arc that may become a fillet is held.
+void Planner::advance(Block& b, double p_mm) {
+  if (queue_.has_held_) {
+    if (fillet(b, p_mm)) return;
+    release_held();
+  }
+  if (holds_fillet(b, p_mm)) {
+    queue_.held_ = b;
+    queue_.held_p_mm_ = p_mm;
+    queue_.has_held_ = true;
+    return;
+  }
+  join(b, p_mm);
+}
+
+// rt-safe. Plans a held arc on its own: the next block was no line leaving it along its tangent, or
+// the fillet did not fit or was slower.
+void Planner::release_held() {
+  if (!queue_.has_held_) return;
+  queue_.has_held_ = false;
+  Block h = queue_.held_;
+  join(h, queue_.held_p_mm_);
+}
+
+// rt-safe. Blends the pending block's end with b's start (or kinks or stops there), commits the
+// pending block and the blend, and holds b pending.
+void Planner::join(Block& b, double p_mm) {
+  const double full_length = b.length;
   if (queue_.has_pending_) {
     Block& a = queue_.pending_;
     // A merged line lies up to merge_q_mm off the program: the blend keeps the rest of P.
-    const double p_mm = req.tolerance_mm < 0 ? config_.tolerance_mm : req.tolerance_mm;
     const double tol = p_mm - std::max(a.merge_q_mm, b.merge_q_mm);
     Block blend;
     bool blended = false;
@@ -543,7 +610,6 @@ PlanResult Planner::plan(const PathRequest& req, double merge_dev_mm, std::uint3
   queue_.pending_ = b;
   queue_.pending_full_length_ = full_length;
   queue_.has_pending_ = true;
-  return PlanResult::Ok;
 }
 
 namespace {
@@ -673,44 +739,11 @@ bool Planner::blend_curves(Block& a, Block& b, double tol, double da_half, Block
     double al = 0, be = 0;
     corner_blend_shape(2 * std::asin(std::min(1.0, core::norm(t1 - t0) / 2)), al, be);
     out = g2_blend_points(p0, t0, a.seg.curvature(sa), x0, p1, t1, b.seg.curvature(eb), x1, al, be);
-    // Largest distance from a and b: samples, then the peak refined between its neighbours (it sits
-    // where the nearest of the two changes, a kink that samples alone miss by up to their spacing).
     const BezierPower curve(out);
-    const auto off = [&](double u) {
+    return peak_distance([&](double u) {
       const Vec q = curve.at(u);
       return std::min(a.seg.distance_to(q), b.seg.distance_to(q));
-    };
-    constexpr int kSamples = 32;
-    double dev = 0;
-    int peak = 1;
-    for (int i = 1; i < kSamples; ++i) {
-      const double e = off(static_cast<double>(i) / kSamples);
-      if (e > dev) dev = e, peak = i;
-    }
-    // Golden-section search: the peak is the max of a rising and a falling distance (unimodal there);
-    // 20 steps narrow the two sample spacings to 1e-4 of them.
-    constexpr double kG = 0.6180339887498949;
-    double lo = (peak - 1.0) / kSamples, hi = (peak + 1.0) / kSamples;
-    double m1 = hi - kG * (hi - lo), m2 = lo + kG * (hi - lo);
-    double e1 = off(m1), e2 = off(m2);
-    for (int k = 0; k < 20; ++k) {
-      dev = std::max({dev, e1, e2});
-      if (e1 < e2) {
-        lo = m1;
-        m1 = m2;
-        e1 = e2;
-        m2 = lo + kG * (hi - lo);
-        e2 = off(m2);
-      } else {
-        hi = m2;
-        m2 = m1;
-        e2 = e1;
-        m1 = hi - kG * (hi - lo);
-        e1 = off(m1);
-      }
-    }
-    dev = std::max({dev, e1, e2});
-    return dev;
+    });
   };
   bool fits = false;
   for (int it = 0; it < 16 && std::min(da, db) > kMinLength_mm && !fits; ++it) {
@@ -781,9 +814,112 @@ bool Planner::blend_curves(Block& a, Block& b, double tol, double da_half, Block
   return true;
 }
 
+// rt-safe. An arc is held as a fillet candidate (jerk mode, docs/planner.md "Fillets") when it
+// leaves the pending line at most kFilletMaxTurn off its direction, is no helix (a spiral's end off
+// the circle is; fillet() checks the distance to it), turns at most kFilletMaxRad and is slower
+// than its feed asks: the line after it may make it one quintic.
+bool Planner::holds_fillet(const Block& b, double p_mm) const {
+  if (!(config_.fillet_share > 0) || !(p_mm > 0) || !queue_.has_pending_) return false;
+  const Block& a = queue_.pending_;
+  if (a.is_blend || a.seg.kind != SegmentKind::Line || b.seg.kind != SegmentKind::Arc || a.rapid != b.rapid) return false;
+  if (!std::isfinite(b.j_mm_s3) || !std::isfinite(a.j_mm_s3)) return false;  // trapezoids take the curvature step at speed
+  if (core::norm(b.seg.linear) > 1e-12) return false;  // a helix: its lines rarely share a plane
+  if (!(std::abs(b.seg.sweep) <= kFilletMaxRad)) return false;
+  if (core::norm(b.seg.tangent(0) - a.seg.dir) > kFilletMaxTurn) return false;
+  return b.v_cap_mm_s < target_speed(b.rapid, b.feed_mm_s);
+}
+
+// rt-safe. The held arc h between the pending line a and the line c as one fillet:
+//
+//   a ─────────────●──╮ V        the quintic corner blend of the two lines' corner V
+//            V−d·t0 ╰─╮ │ h       (make_corner_blend), d as large as keeps every point of it
+//                    ╰─●│ c       within 0.95·P of a, h or c; it replaces the arc and both
+//                       │         curvature steps, so nothing on the corner runs slower than
+//                   V+d·t1        its own cap.
+// Taken where that cap is at least fillet_share of the arc's own (the arc is entered through
+// transitions slower than it). On success a and the quintic are committed and c is pending.
+bool Planner::fillet(Block& c, double p_mm) {
+  Block& a = queue_.pending_;
+  const Block& h = queue_.held_;
+  if (c.seg.kind != SegmentKind::Line || c.rapid != h.rapid || !std::isfinite(c.j_mm_s3)) return false;
+  const double tol = std::min(p_mm, queue_.held_p_mm_) - std::max(a.merge_q_mm, c.merge_q_mm);
+  if (!(tol > 0)) return false;
+  const Vec t0 = a.seg.dir, t1 = c.seg.dir;
+  if (core::norm(t1 - h.seg.tangent(h.length)) > kFilletMaxTurn) return false;
+  const double chord = core::norm(t1 - t0);
+  const double delta = 2 * std::asin(std::min(1.0, chord / 2));
+  if (!(delta > config_.tangent_rad) || delta > kFilletMaxRad) return false;
+  // V: a's end + x·t0 = c's start − y·t1 (the two lines meet: the arc lies in their plane). On a
+  // tangent fillet x, y > 0; where a line meets the arc at a corner, V may lie behind that end.
+  const Vec w = c.seg.start - a.seg.end;
+  const double cc = core::dot(t0, t1), det = 1 - cc * cc;
+  if (!(det > 1e-12)) return false;
+  const double u0 = core::dot(t0, w), u1 = core::dot(t1, w);
+  const double x = (u0 - cc * u1) / det, y = (u1 - cc * u0) / det;
+  const Vec v = a.seg.end + t0 * x;
+  if (core::distance(v, c.seg.start - t1 * y) > 1e-6) return false;
+  double alpha = 0, beta = 0;
+  corner_blend_shape(delta, alpha, beta);
+  const double coef = corner_blend_dev(chord, 1.0, alpha, beta);
+  // The quintic starts on a and ends on c (d ≥ x, d ≥ y), each line giving at most half of itself
+  // as programmed; d from where its midpoint meets the arc's to where it lies 0.95·P past it.
+  const double room = std::min(x + std::min(queue_.pending_full_length_ / 2, a.length), y + c.length / 2);
+  const double mid = core::distance(h.seg.point(h.length / 2), v);
+  const double d_lo = std::max({x, y, mid / coef}), d_hi = std::min(room, (mid + 0.95 * tol) / coef);
+  if (!(d_lo <= d_hi)) return false;
+  const auto off = [&](double d) {
+    const std::array<Vec, 6> ctrl{v - t0 * d, v - t0 * (alpha * d), v - t0 * (beta * d),
+                                  v + t1 * (beta * d), v + t1 * (alpha * d), v + t1 * d};
+    const BezierPower curve(ctrl);
+    return peak_distance([&](double u) {
+      const Vec q = curve.at(u);
+      return std::min({a.seg.distance_to(q), h.seg.distance_to(q), c.seg.distance_to(q)});
+    });
+  };
+  double d = d_hi;
+  if (!(off(d) <= 0.95 * tol)) {
+    if (!(off(d_lo) <= 0.95 * tol)) return false;
+    double lo = d_lo, hi = d_hi;  // the largest d that fits, to 1/256 of the span
+    for (int it = 0; it < 8; ++it) {
+      const double m = 0.5 * (lo + hi);
+      (off(m) <= 0.95 * tol ? lo : hi) = m;
+    }
+    d = lo;
+  }
+  const SegmentResult q = make_corner_blend(v, t0, t1, d, alpha, beta);
+  if (!q.ok()) return false;
+  const double vq = target_speed(h.rapid, std::min({a.feed_mm_s, h.feed_mm_s, c.feed_mm_s}));
+  const SegmentLimits ql = segment_limits(q.segment, limits_, config_.centripetal_share, vq);
+  if (!(ql.v_max_mm_s >= config_.fillet_share * std::min(h.v_cap_mm_s, vq)) || !(ql.a_max_mm_s2 > 0) ||
+      !std::isfinite(ql.a_max_mm_s2))
+    return false;
+  Vec lo, hi;  // within P of the program, it may still pass a soft limit the program touches
+  q.segment.bounds(lo, hi);
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i)
+    if (limits_.present(i) && (lo[i] < limits_.axis[i].min_mm || hi[i] > limits_.axis[i].max_mm)) return false;
+  Block blend;
+  blend.seg = q.segment;
+  blend.length = q.segment.length;
+  set_limits(blend, ql, ql.j_max_mm_s3);
+  set_law(blend, [&] { return segment_law(blend.seg, limits_); });
+  join_blend(blend, a, c);
+  const double full_c = c.length;
+  a.seg = make_line(a.seg.start, v - t0 * d);
+  a.length = a.seg.length;
+  c.seg = make_line(v + t1 * d, c.seg.end);
+  c.length = c.seg.length;
+  queue_.has_held_ = false;
+  if (a.length > kMinLength_mm) commit(a);
+  commit(blend);
+  queue_.pending_ = c;
+  queue_.pending_full_length_ = full_c;
+  return true;
+}
+
 // rt-safe
 void Planner::flush() {
   emit_stage();  // validated when pushed: the merged line is inside the hull of what was checked
+  release_held();
   if (!queue_.has_pending_) return;
   queue_.has_pending_ = false;
   if (queue_.pending_.length > kMinLength_mm) commit(queue_.pending_);

@@ -63,6 +63,10 @@ struct PlannerConfig {
   // below it the arc is as fast and cheaper to run. ∞: always arcs.
   double g2_blend_min_rad = 0.1;
   double g2_blend_gain = 1.5;  // ... where its speed cap is at least this times the arc's corner speed
+  // Jerk mode: an arc between two lines it is tangent to (a CAM fillet) is replaced by one quintic
+  // from line to line within P of the three (docs/planner.md, "Fillets") where that quintic's speed
+  // cap is at least this share of the arc's; 0 = off.
+  double fillet_share = 0.8;
 };
 
 enum class PlanResult : std::uint8_t { Ok, QueueFull, BadFeed, OutsideTravel, Infeasible };
@@ -120,6 +124,13 @@ class Planner {
   // Blends a junction of lines and arcs with at least one arc (a corner, or in jerk mode a
   // curvature step) by a curvature-continuous quintic within tol, trimming a and b; false: none.
   bool blend_curves(Block& a, Block& b, double tol, double da_half, Block& blend) const;  // da_half: half of a as programmed
+  void advance(Block& b, double p_mm);
+  void join(Block& b, double p_mm);
+  bool holds_fillet(const Block& b, double p_mm) const;
+  bool fillet(Block& c, double p_mm);
+  void release_held();
+  static constexpr double kFilletMaxRad = 2.7;   // fillets turn less (arc and corners together)
+  static constexpr double kFilletMaxTurn = 1.5;  // |Δt| at either end of the arc: about 97°
   // The fastest a move is asked to go: its feed at the highest override (∞ for rapids: the axes').
   double target_speed(bool rapid, double feed_mm_s) const {
     return rapid ? std::numeric_limits<double>::infinity() : feed_mm_s * config_.max_feed_override;

@@ -52,7 +52,8 @@ TEST(InterpAlloc, PushingCornersThatGetQuinticBlendsAllocatesNothing) {
     const core::Vec a = at + xyz(5, 0), b = a + xyz(0, 5);  // 90° line corner: a quintic
     reqs.push_back(line_req(at, a, 100, static_cast<std::uint32_t>(3 * k), 0.05));
     reqs.push_back(line_req(a, b, 100, static_cast<std::uint32_t>(3 * k + 1), 0.05));
-    // A line into a tangent R2 quarter arc: a curvature step, blended.
+    // A line into a tangent R2 quarter arc and on along its end tangent: a fillet (one quintic
+    // from line to line, Planner::fillet), the arc held until the next line arrives.
     PathRequest arc = arc_req(make_arc(b, b + xyz(2, 2), 0, 1, b[0] + 2, b[1], -1), 100, static_cast<std::uint32_t>(3 * k + 2));
     arc.tolerance_mm = 0.05;
     reqs.push_back(arc);
@@ -63,8 +64,11 @@ TEST(InterpAlloc, PushingCornersThatGetQuinticBlendsAllocatesNothing) {
   for (const auto& r : reqs) ASSERT_EQ(planner.push(r), PlanResult::Ok);
   planner.flush();
   EXPECT_EQ(softmc::testing::allocation_count() - before, 0);
-  std::size_t poly = 0;
-  for (std::size_t k = 0; k < planner.queue().ring().size(); ++k)
+  std::size_t poly = 0, arcs = 0;
+  for (std::size_t k = 0; k < planner.queue().ring().size(); ++k) {
     poly += planner.queue().ring().at(k).seg.kind == SegmentKind::Poly;
+    arcs += planner.queue().ring().at(k).seg.kind == SegmentKind::Arc;
+  }
   EXPECT_GT(poly, 60u);  // the blends this is about were built
+  EXPECT_LE(arcs, 1u);   // and the fillets (the last arc has no line after it)
 }

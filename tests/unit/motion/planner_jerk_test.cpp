@@ -570,8 +570,11 @@ TEST(PlannerJerk, CurvatureContinuousCornersBeatArcsWhereTheJerkIsLow) {
 // would step by v²/R in one cycle, so the junction allows only √(kink_share·j·dt·R) (1.1 mm/s at
 // R 0.5 and 10 000 mm/s³: a pocket's corner arcs). With P the step is replaced by a quintic that
 // ramps the curvature within P (the arc and the line are cut back), crossed several times faster.
+// (Fillets off: this arc between two lines would otherwise become one quintic, the next tests'.)
 TEST(PlannerJerk, TangentCurvatureStepsAreBlendedWithinP) {
   const auto lim = jerk_limits(100, 1000, 10000);
+  PlannerConfig pc;
+  pc.fillet_share = 0;
   const auto path = [](double tol) {
     std::vector<PathRequest> reqs{line_req(xyz(0, 0), xyz(10, 0), 100, 0, tol)};
     PathRequest arc = arc_req(make_arc(xyz(10, 0), xyz(12, 2), 0, 1, 10, 2, 1), 100, 1);  // R2 quarter, tangent
@@ -585,10 +588,10 @@ TEST(PlannerJerk, TangentCurvatureStepsAreBlendedWithinP) {
     const auto& p = in.setpoint().pos;
     if (p[0] > 5 && p[1] < 7) v_min = std::min(v_min, in.setpoint().path_v);
   };
-  const auto blended = run_path(lim, path(0.05), 64, {}, hook);
+  const auto blended = run_path(lim, path(0.05), 64, pc, hook);
   const double v_blended = v_min;
   v_min = 1e9;
-  const auto stepped = run_path(lim, path(0), 64, {}, hook);
+  const auto stepped = run_path(lim, path(0), 64, pc, hook);
   expect_within(blended, 0.05, "blended");
   expect_within(stepped, 0, "stepped");
   EXPECT_GT(blended.fig.deviation_mm, 0.005);
@@ -721,7 +724,9 @@ TEST(PlannerJerk, CurveBlendsJoinTheirNeighboursWithTheirCurvature) {
   reqs.push_back(arc);
   // A corner: on at 20° to the arc's end tangent (+y).
   reqs.push_back(line_req(xyz(12, 2), xyz(12 - 10 * std::sin(0.35), 2 + 10 * std::cos(0.35)), 100, 2, 0.05));
-  Planner planner(lim, 16);
+  PlannerConfig pc;
+  pc.fillet_share = 0;  // the blends at the arc, not the fillet that would replace it
+  Planner planner(lim, 16, pc);
   for (const auto& r : reqs) ASSERT_EQ(planner.push(r), PlanResult::Ok);
   planner.flush();
   const auto& ring = planner.queue().ring();
@@ -736,4 +741,146 @@ TEST(PlannerJerk, CurveBlendsJoinTheirNeighboursWithTheirCurvature) {
     EXPECT_LT(core::norm(ka - kb), 1e-6 * std::max(1.0, core::norm(ka))) << k << ": " << core::norm(ka) << " vs " << core::norm(kb);
   }
   EXPECT_EQ(poly, 2u);  // the tangent step and the corner were both blended
+}
+
+// A pocket's corner: a line, a tangent quarter arc of R 0.5 and a line. Under a jerk limit the arc
+// is entered through curvature steps (1.1 mm/s unblended, 3.3 mm/s through the quintics that ramp
+// its curvature within P); held until the line after it arrives, it becomes one quintic from line
+// to line within 0.95·P of line, arc and line (Planner::fillet), run at its own cap (8.9 mm/s at
+// P 0.05, 10 000 mm/s³: the arc's own is 7.9). The blocks join with position, tangent and zero
+// curvature; every limit is kept and the corner takes far less time.
+TEST(PlannerJerk, FilletArcsBecomeOneQuinticWithinP) {
+  const auto lim = jerk_limits(100, 1000, 10000);
+  std::vector<PathRequest> reqs{line_req(xyz(0, 0), xyz(10, 0), 100, 0, 0.05)};
+  PathRequest arc = arc_req(make_arc(xyz(10, 0), xyz(10.5, 0.5), 0, 1, 10, 0.5, 1), 100, 1);
+  arc.tolerance_mm = 0.05;
+  reqs.push_back(arc);
+  reqs.push_back(line_req(xyz(10.5, 0.5), xyz(10.5, 10.5), 100, 2, 0.05));
+  const auto blocks = [&](const PlannerConfig& pc) {
+    Planner planner(lim, 16, pc);
+    for (const auto& r : reqs) EXPECT_EQ(planner.push(r), PlanResult::Ok);
+    EXPECT_FALSE(planner.queue().empty());  // the arc is held, the line pending
+    planner.flush();
+    std::vector<Block> out;
+    for (std::size_t k = 0; k < planner.queue().ring().size(); ++k) out.push_back(planner.queue().ring().at(k));
+    return out;
+  };
+  PlannerConfig off;
+  off.fillet_share = 0;
+  const auto f = blocks({});
+  ASSERT_EQ(f.size(), 3u);
+  EXPECT_EQ(f[0].seg.kind, SegmentKind::Line);
+  EXPECT_EQ(f[1].seg.kind, SegmentKind::Poly);
+  EXPECT_EQ(f[2].seg.kind, SegmentKind::Line);
+  EXPECT_GT(f[1].v_cap_mm_s, 8.5);
+  EXPECT_EQ(f[1].tag, 0u);
+  EXPECT_EQ(f[1].tag_last, 2u);
+  for (std::size_t k = 0; k + 1 < f.size(); ++k) {
+    EXPECT_LT(core::distance(f[k].end(), f[k + 1].start()), 1e-12) << k;
+    EXPECT_LT(core::norm(f[k].tangent(f[k].length) - f[k + 1].tangent(0)), 1e-12) << k;
+    EXPECT_LT(core::norm(f[k].curvature(f[k].length) - f[k + 1].curvature(0)), 1e-9) << k;
+  }
+  const auto g = blocks(off);
+  ASSERT_EQ(g.size(), 3u);  // the arc, entered and left through curvature steps
+  EXPECT_EQ(g[1].seg.kind, SegmentKind::Arc);
+  double v_min = 1e9;       // slowest over the corner
+  const auto hook = [&](std::uint64_t, Interpolator& in) {
+    const auto& p = in.setpoint().pos;
+    if (p[0] > 9 && p[1] < 1.5) v_min = std::min(v_min, in.setpoint().path_v);
+  };
+  const auto filleted = run_path(lim, reqs, 16, {}, hook);
+  const double v_fillet = v_min;
+  v_min = 1e9;
+  const auto arcs = run_path(lim, reqs, 16, off, hook);
+  expect_within(filleted, 0.05, "fillet");
+  expect_within(arcs, 0.05, "arc");
+  EXPECT_GT(filleted.fig.deviation_mm, 0.04);  // the band is used
+  EXPECT_GT(v_fillet, 0.9 * f[1].v_cap_mm_s);
+  EXPECT_LT(v_min, 4.0);
+  EXPECT_LT(filleted.cycles + 150, arcs.cycles) << filleted.cycles << " vs " << arcs.cycles;
+  EXPECT_EQ(filleted.end, xyz(10.5, 10.5));
+}
+
+// A held arc that cannot become a fillet is planned as it would have been: the program ends on it
+// (flush), an arc follows it, the line after it reverses, or P is 0 (G61: not even held). Each
+// keeps its arc block, and the queue counts the held arc while it waits.
+TEST(PlannerJerk, HeldArcIsPlannedOnItsOwnWhereNoFilletFits) {
+  const auto lim = jerk_limits(100, 1000, 10000);
+  const auto quarter = [](double tol) {
+    PathRequest arc = arc_req(make_arc(xyz(10, 0), xyz(10.5, 0.5), 0, 1, 10, 0.5, 1), 100, 1);
+    arc.tolerance_mm = tol;
+    return arc;
+  };
+  PathRequest arc2 = arc_req(make_arc(xyz(10.5, 0.5), xyz(10, 1), 0, 1, 10, 0.5, 1), 100, 2);
+  arc2.tolerance_mm = 0.05;
+  const std::vector<std::vector<PathRequest>> cases{
+      {line_req(xyz(0, 0), xyz(10, 0), 100, 0, 0.05), quarter(0.05)},
+      {line_req(xyz(0, 0), xyz(10, 0), 100, 0, 0.05), quarter(0.05), arc2},
+      {line_req(xyz(0, 0), xyz(10, 0), 100, 0, 0.05), quarter(0.05), line_req(xyz(10.5, 0.5), xyz(10.5, -5), 100, 2, 0.05)},
+      {line_req(xyz(0, 0), xyz(10, 0), 100, 0, 0), quarter(0), line_req(xyz(10.5, 0.5), xyz(10.5, 10.5), 100, 2, 0)}};
+  for (std::size_t c = 0; c < cases.size(); ++c) {
+    Planner planner(lim, 32);
+    for (std::size_t k = 0; k < cases[c].size(); ++k) {
+      ASSERT_EQ(planner.push(cases[c][k]), PlanResult::Ok) << c;
+      if (k > 1) continue;
+      EXPECT_EQ(planner.queue().size(), k + 1) << c << " " << k;  // staged, pending, held or committed
+      if (k == 1) {
+        EXPECT_EQ(planner.queue().ring().size(), c == 3 ? 1u : 0u) << c;  // held: the line stays pending
+      }
+    }
+    planner.flush();
+    std::size_t arcs = 0;
+    for (std::size_t k = 0; k < planner.queue().ring().size(); ++k) arcs += planner.queue().ring().at(k).seg.kind == SegmentKind::Arc;
+    EXPECT_GE(arcs, 1u) << c;
+    const auto res = run_path(lim, cases[c], 32);
+    expect_within(res, c == 3 ? 0.0 : 0.05, ("case " + std::to_string(c)).c_str());
+    EXPECT_EQ(res.end, cases[c].back().geom.end) << c;
+  }
+}
+
+// Seeded polygons with rounded corners, as CAM pockets and profiles are written: lines joined by
+// tangent arcs of R 0.1–3 turning up to 150°, now and then leaving the arc at a corner, on random
+// axis limits and P: every fillet the planner builds keeps every axis's speed, acceleration and
+// jerk, and every setpoint within P of the program (most arcs become fillets).
+static std::vector<PathRequest> fillet_chain(std::mt19937_64& rng, std::uniform_real_distribution<double>& u, double tol) {
+  std::vector<PathRequest> reqs;
+  core::Vec at = xyz(0, 0, 0);
+  double h = 2 * std::numbers::pi * u(rng);
+  const int n = 2 + static_cast<int>(rng() % 12);
+  const double feed = 20 + 200 * u(rng);
+  for (int k = 0; k < n; ++k) {
+    const double len = rng() % 5 == 0 ? 0.05 + 0.5 * u(rng) : 0.5 + 15 * u(rng);
+    reqs.push_back(line_req(at, at + xyz(std::cos(h), std::sin(h)) * len, feed, static_cast<std::uint32_t>(2 * k), tol));
+    at = reqs.back().geom.end;
+    const double rad = 0.1 + 3 * u(rng) * u(rng), dir = rng() % 2 ? 1.0 : -1.0, sweep = 0.1 + 2.5 * u(rng);
+    const double c0 = at[0] - dir * rad * std::sin(h), c1 = at[1] + dir * rad * std::cos(h);
+    const double a1 = std::atan2(at[1] - c1, at[0] - c0) + dir * sweep;
+    PathRequest arc = arc_req(make_arc(at, xyz(c0 + rad * std::cos(a1), c1 + rad * std::sin(a1)), 0, 1, c0, c1, dir > 0 ? 1 : -1),
+                              feed, static_cast<std::uint32_t>(2 * k + 1));
+    arc.tolerance_mm = tol;
+    reqs.push_back(arc);
+    at = arc.geom.end;
+    h += dir * sweep + (rng() % 4 == 0 ? (u(rng) - 0.5) * 2 : 0.0);  // now and then a corner after the arc
+  }
+  reqs.push_back(line_req(at, at + xyz(std::cos(h), std::sin(h)) * (1 + 10 * u(rng)), feed, static_cast<std::uint32_t>(2 * n), tol));
+  return reqs;
+}
+
+TEST(PlannerJerk, RandomRoundedPolygonsKeepTheLimitsThroughTheirFillets) {
+  expect_random_jerk_paths(200, {0.01, 0.05, 0.2}, fillet_chain);
+  // The draws do make fillets: arcs left in the planned window, against the arcs programmed.
+  std::size_t programmed = 0, left = 0;
+  for (std::uint64_t seed = 1; seed <= 50; ++seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(0, 1);
+    const auto reqs = fillet_chain(rng, u, 0.05);
+    Planner planner(jerk_limits(100, 1000, 10000), 256);
+    for (const auto& r : reqs) {
+      ASSERT_EQ(planner.push(r), PlanResult::Ok) << seed;
+      programmed += r.geom.kind == SegmentKind::Arc;
+    }
+    planner.flush();
+    for (std::size_t k = 0; k < planner.queue().ring().size(); ++k) left += planner.queue().ring().at(k).seg.kind == SegmentKind::Arc;
+  }
+  EXPECT_LT(left, programmed / 2) << left << " of " << programmed;
 }
