@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <random>
 
 #include "motion/geometry/polyline_smoothing.hpp"
@@ -50,6 +51,20 @@ std::vector<PathRequest> requests(const std::vector<std::vector<Segment>>& lines
     reqs.push_back(r);
   }
   return reqs;
+}
+
+// The pieces through the planner on a jerk-limited machine (100 mm/s, 1000 mm/s², 10 000 mm/s³):
+// every axis within its limits, the run ending on `end`.
+testing::RunResult run_within_limits(const std::vector<std::vector<Segment>>& lines, const Vec& end) {
+  MachineLimits lim;
+  for (int i = 0; i < 3; ++i) lim.axis[i] = {100, 1000, 10000};
+  const auto r = run_path(lim, requests(lines), 256);
+  EXPECT_TRUE(r.finished);
+  EXPECT_LE(r.fig.v_ratio, 1 + 1e-5) << r.fig.describe();
+  EXPECT_LE(r.fig.a_ratio, 1 + 1e-5) << r.fig.describe();
+  EXPECT_LE(r.fig.j_ratio, 1 + 1e-5) << r.fig.describe();
+  EXPECT_EQ(r.end, end);
+  return r;
 }
 
 TEST(PolylineSmoothing, SplineIsCurvatureContinuousAndWithinTheTolerance) {
@@ -211,20 +226,56 @@ TEST(PolylineSmoothing, PiecesThatBendAtOneEndAreSplit) {
     EXPECT_LT(core::norm(segs[k].tangent(segs[k].length) - segs[k + 1].tangent(0)), 1e-9) << k;
     EXPECT_LT(core::norm(segs[k].curvature(segs[k].length) - segs[k + 1].curvature(0)), 1e-6) << k;
   }
-  MachineLimits lim;
-  for (int i = 0; i < 3; ++i) lim.axis[i] = {100, 1000, 10000};
-  const auto run = [&](const std::vector<std::vector<Segment>>& lines) {
-    return run_path(lim, requests(lines), 256);
-  };
-  const auto rs = run(ls), rw = run(lw);
-  for (const auto* r : {&rs, &rw}) {
-    ASSERT_TRUE(r->finished);
-    EXPECT_LE(r->fig.v_ratio, 1 + 1e-5) << r->fig.describe();
-    EXPECT_LE(r->fig.a_ratio, 1 + 1e-5) << r->fig.describe();
-    EXPECT_LE(r->fig.j_ratio, 1 + 1e-5) << r->fig.describe();
-    EXPECT_EQ(r->end, pts.back());
-  }
+  const auto rs = run_within_limits(ls, pts.back()), rw = run_within_limits(lw, pts.back());
   EXPECT_LT(static_cast<double>(rs.cycles), 0.9 * static_cast<double>(rw.cycles)) << rs.cycles << " vs " << rw.cycles;
 }
 
+}  // namespace softmc::motion
+
+namespace softmc::motion {
+// 3D_Chips.ngc N9421–N9771 (X−4.5 … −7, Y−42 … −54 … −36): down a wall to the floor, round a
+// corner of the floor, along it for 8 mm, then 0.008 mm nearly on, and up the next wall. A uniform
+// B-spline bends where its legs change length: through the 8 mm and 0.008 mm legs it had a cusp-like
+// spike of curvature (909/mm, a speed cap of 0.06 mm/s: a 3 s crawl over 0.17 mm in the program).
+// The point between uneven legs moves to its neighbours' mid-chord (max_leg_ratio): the curve bends
+// less than 2/mm, stays within the tolerance of the programmed lines, and runs many times faster
+// through the planner, within every limit.
+TEST(PolylineSmoothing, UnevenLegsDoNotMakeCurvatureSpikes) {
+  const double xyz[][3] = {{-4.5, -42.273, -28.385}, {-4.5, -42.773, -29.629}, {-4.5, -42.898, -29.974}, {-4.5, -42.96, -30.238},
+                           {-4.5, -43.015, -30.481}, {-4.5, -43.023, -30.5},   {-4.5, -50.523, -30.5},   {-4.5, -53, -30.5},
+                           {-4.528, -53.293, -30.5}, {-4.607, -53.547, -30.5}, {-4.731, -53.762, -30.5}, {-4.891, -53.938, -30.5},
+                           {-5.08, -54.074, -30.5},  {-5.291, -54.172, -30.5}, {-5.517, -54.23, -30.5},  {-5.75, -54.25, -30.5},
+                           {-5.983, -54.23, -30.5},  {-6.209, -54.172, -30.5}, {-6.426, -54.07, -30.5},  {-6.609, -53.938, -30.5},
+                           {-6.769, -53.762, -30.5}, {-6.893, -53.547, -30.5}, {-6.972, -53.293, -30.5}, {-7, -53, -30.5},
+                           {-7, -47.977, -30.5},     {-7, -39.946, -30.5},     {-7, -39.938, -30.498},   {-7, -39.852, -30.14},
+                           {-7, -39.727, -29.698},   {-7, -38.977, -28.078},   {-7, -38.477, -27.411},   {-7, -37.977, -26.9},
+                           {-7, -37.477, -26.43},    {-7, -37.227, -26.212},   {-7, -36.977, -26.028},   {-7, -36.477, -25.729}};
+  std::vector<Vec> pts;
+  for (const auto& p : xyz) {
+    Vec v;
+    for (int i = 0; i < 3; ++i) v[i] = p[i];
+    pts.push_back(v);
+  }
+  PolylineSmoothing even;  // as the Channel sets it for P0.1 (3D_Chips's G64 P.1)
+  even.tolerance_mm = 0.09;
+  even.max_turn_rad = 20 * std::numbers::pi / 180;
+  PolylineSmoothing uneven = even;
+  uneven.max_leg_ratio = 0;
+  std::vector<std::vector<Segment>> le, lu;
+  smooth_polyline(pts, even, le);
+  smooth_polyline(pts, uneven, lu);
+  const auto kmax = [](const std::vector<std::vector<Segment>>& lines) {
+    double k = 0;
+    for (const auto& s : flatten(lines))
+      if (s.kind == SegmentKind::Poly) k = std::max(k, s.max_curvature());
+    return k;
+  };
+  ASSERT_FALSE(le[24].empty());  // the 8 mm line is smoothed, not kept
+  EXPECT_GT(kmax(lu), 100.0);    // the spike this is about
+  EXPECT_LT(kmax(le), 2.0);
+  for (const auto& s : flatten(le))
+    for (int i = 0; i <= 16; ++i) EXPECT_LE(distance_to_polyline(s.point(s.length * i / 16), pts), even.tolerance_mm + 1e-12);
+  const auto re = run_within_limits(le, pts.back()), ru = run_within_limits(lu, pts.back());
+  EXPECT_LT(static_cast<double>(re.cycles), 0.5 * static_cast<double>(ru.cycles)) << re.cycles << " vs " << ru.cycles;
+}
 }  // namespace softmc::motion
