@@ -128,6 +128,7 @@ bool Channel::push_curve(int& budget) {
     req.feed_mm_s = feed;
     req.tag = pc_;
     req.tolerance_mm = path_tolerance_mm_;
+    req.mergeable = false;  // a smoothed run's stubs keep the direction their spline leaves along
     const auto r = planner_.push(req);
     if (r != motion::PlanResult::Ok) {
       fail(motion::to_string(r), r);

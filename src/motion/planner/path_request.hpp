@@ -18,6 +18,10 @@ struct PathRequest {
   // Speed profile of this move: Scurve (default) keeps the axes' jerk limits; Trapezoid ignores them
   // (acceleration may jump); Sine2 is executed as Scurve on paths (its smooth jerk is a 1-D feature).
   ProfileKind profile = ProfileKind::Scurve;
+  // A line that may merge with its neighbouring lines (naive-CAM merge, docs/planner.md). false: a
+  // line that must keep its direction, such as a smoothed run's end stub, tangent to its spline
+  // (merged, it would meet the spline at a kink, an exact stop under a jerk limit).
+  bool mergeable = true;
 };
 
 }  // namespace softmc::motion

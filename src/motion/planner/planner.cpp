@@ -379,7 +379,7 @@ PlanResult Planner::push(const PathRequest& req) {
   const PlanResult r = emit_stage();
   if (r != PlanResult::Ok) return r;
   const double tol = req.tolerance_mm < 0 ? config_.tolerance_mm : req.tolerance_mm;
-  if (req.geom.kind == SegmentKind::Line && tol > 0 && config_.merge_share > 0) {
+  if (req.geom.kind == SegmentKind::Line && req.mergeable && tol > 0 && config_.merge_share > 0) {
     stage(req);
     return PlanResult::Ok;
   }
@@ -409,7 +409,7 @@ void Planner::stage(const PathRequest& req) {
 bool Planner::merge(const PathRequest& req) {
   MergeStage& m = queue_.stage_;
   const double tol = req.tolerance_mm < 0 ? config_.tolerance_mm : req.tolerance_mm;
-  if (req.geom.kind != SegmentKind::Line || !(tol > 0) || req.rapid != m.req.rapid || req.profile != m.req.profile ||
+  if (req.geom.kind != SegmentKind::Line || !req.mergeable || !(tol > 0) || req.rapid != m.req.rapid || req.profile != m.req.profile ||
       (!req.rapid && req.feed_mm_s != m.req.feed_mm_s) || m.n + 1 >= MergeStage::kMaxPoints)
     return false;
   const double q = std::min(m.q_mm, config_.merge_share * tol);

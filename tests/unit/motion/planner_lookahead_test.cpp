@@ -4,6 +4,7 @@
 #include <array>
 #include <numbers>
 
+#include "motion/geometry/bezier.hpp"
 #include "planner_run.hpp"
 
 using namespace softmc;
@@ -179,4 +180,46 @@ TEST(Lookahead, LineArcCornersAreBlendedWithinP) {
       EXPECT_EQ(r->end, s2) << what;
     }
   }
+}
+
+// A smoothed run ends in a stub, a line along the spline's end tangent. Merged with the lines after
+// it (naive-CAM merge), it would leave the spline at a kink, which a jerk limit crosses at rest:
+// 3D_Chips.ngc had 208 such stops. Requests marked unmergeable (the Channel's stubs) keep their
+// direction: the spline, the stub and the next lines join without a stop.
+TEST(Lookahead, UnmergeableLinesKeepTheirDirection) {
+  auto lim = xyz_limits(100, 1000);
+  for (int i = 0; i < 3; ++i) lim.axis[i].j_max_mm_s3 = 10000;
+  const auto path = [](bool mergeable) {
+    std::vector<PathRequest> reqs;
+    PathRequest curve;
+    curve.geom = make_cubic_bezier(xyz(0, 0), xyz(2, 1), xyz(4, 1), xyz(6, 1));  // leaves along +x at (6, 1)
+    curve.feed_mm_s = 100;
+    curve.tolerance_mm = 0.05;
+    reqs.push_back(curve);
+    PathRequest stub = line_req(xyz(6, 1), xyz(6.5, 1), 100, 1, 0.05);
+    stub.mergeable = mergeable;
+    reqs.push_back(stub);
+    const double t = 0.01;  // the next lines turn 0.6° from the stub: within Q of one chord with it
+    reqs.push_back(line_req(xyz(6.5, 1), xyz(6.5 + 3 * std::cos(t), 1 + 3 * std::sin(t)), 100, 2, 0.05));
+    reqs.push_back(line_req(reqs.back().geom.end, reqs.back().geom.end + xyz(3 * std::cos(t), 3 * std::sin(t)), 100, 3, 0.05));
+    return reqs;
+  };
+  for (const bool mergeable : {false, true}) {
+    Planner planner(lim, 32);
+    for (const auto& r : path(mergeable)) ASSERT_EQ(planner.push(r), PlanResult::Ok);
+    planner.flush();
+    const auto& ring = planner.queue().ring();
+    std::size_t stops = 0;  // exact stops between the first block and the end
+    for (std::size_t k = 1; k < ring.size(); ++k) stops += ring.at(k).v2_junction <= 0;
+    EXPECT_EQ(stops, mergeable ? 1u : 0u) << mergeable;
+    EXPECT_EQ(ring.at(1).seg.kind, SegmentKind::Line);
+    if (!mergeable) {
+      EXPECT_LT(core::norm(ring.at(1).seg.dir - xyz(1, 0)), 1e-12);  // the stub as programmed
+    }
+  }
+  const auto res = run_path(lim, path(false), 32);
+  ASSERT_TRUE(res.finished);
+  EXPECT_LE(res.fig.deviation_mm, 0.05 + 1e-9);
+  EXPECT_LE(res.fig.j_ratio, 1 + 1e-4) << res.fig.describe();
+  EXPECT_EQ(res.end, path(false).back().geom.end);
 }
