@@ -28,9 +28,9 @@ double turn(const Vec& a, const Vec& b, const Vec& c) {
 
 // Appends the cubic piece c, or its two halves (de Casteljau at ½: the same curve, split exactly),
 // each again split while that pays: the planner gives each piece one speed cap, from the piece's
-// largest curvature κ and jerk term κ² + |dκ/ds|, so a long piece whose bend is all at one end
+// largest curvature κ and jerk term |dκ/ds| (of the curvature vector), so a long piece whose bend is all at one end
 // (a long line meeting short ones) would crawl along its whole length at the cap of its end. A
-// split is kept when one half has under a quarter of the whole's κ² + |dκ/ds| or under 0.4 of its
+// split is kept when one half has under a quarter of the whole's |dκ/ds| or under 0.4 of its
 // κ (a cap at least 1.6 times higher, whatever the machine), down to pieces of min_length.
 void append_piece(std::vector<Segment>& out, const std::array<Vec, 4>& c, const PolylineSmoothing& cfg, int depth,
                   const Segment* built = nullptr) {
@@ -44,7 +44,7 @@ void append_piece(std::vector<Segment>& out, const std::array<Vec, 4>& c, const 
   const std::array<Vec, 4> lc{c[0], m01, l2, mid}, rc{mid, r1, m23, c[3]};
   const Segment left = make_cubic_bezier(lc[0], lc[1], lc[2], lc[3]);
   const Segment right = make_cubic_bezier(rc[0], rc[1], rc[2], rc[3]);
-  const auto k3 = [](const Segment& g) { return g.poly.max_curvature * g.poly.max_curvature + g.poly.max_dcurvature; };
+  const auto k3 = [](const Segment& g) { return g.poly.max_dcurvature; };
   const double k3_low = std::min(k3(left), k3(right)), k_low = std::min(left.poly.max_curvature, right.poly.max_curvature);
   if (!(k3_low < 0.25 * k3(whole)) && !(k_low < 0.4 * whole.poly.max_curvature)) {
     out.push_back(whole);

@@ -173,7 +173,7 @@ SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double 
     // and jerk: its cap is then that speed, which nothing asks to exceed.
     const Vec tmax = g.max_abs_tangent();
     const double kappa = g.max_curvature();
-    const double k3 = kappa * kappa + g.poly.max_dcurvature;
+    const double k3 = g.poly.max_dcurvature;
     double vt = v_target;
     for (std::size_t i = 0; i < core::kMaxAxes; ++i)
       if (tmax[i] >= 1e-12) vt = std::min(vt, lim.axis[i].v_max_mm_s / tmax[i]);
@@ -185,9 +185,9 @@ SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double 
       const double cn_i = std::isfinite(vt) ? std::min(cn, kappa * vt * vt / ax.a_max_mm_s2) : cn;
       a = std::min(a, (1 - cn_i) * ax.a_max_mm_s2 / d);
       if (kappa > 0) v = std::min(v, std::sqrt(cn_i * ax.a_max_mm_s2 / kappa));
-      // Jerk: v³κ²·T_i + v³·dκ/ds·N_i ≤ v³(κ² + κ') takes up to half of j_max (one budget: the two
-      // speed terms of one curve, whichever dominates), 3·v·a_t·κ a fifth, j_t·T_i the rest (three
-      // tenths or more). Half and a fifth rather than three eighths and an eighth (swept on the
+      // Jerk: the speed term v³·dκ/ds (κ the curvature vector: d/ds of κ·N is −κ²·T + κ'·N + κτ·B,
+      // all three in max_dcurvature, so no κ² on top of it since 2026-12-02) takes up to half of
+      // j_max, 3·v·a_t·κ a fifth, j_t·T_i the rest (three tenths or more). Half and a fifth rather than three eighths and an eighth (swept on the
       // LinuxCNC programs, docs/planner.md "Poly segments"): since the gated certificate the
       // follower brakes on the blocks before a curve and enters it at its cap, so the cap and the
       // acceleration along it are worth more than the curve's own tangential jerk.
