@@ -111,13 +111,17 @@ static void expect_random_jerk_paths(std::uint64_t seeds, std::initializer_list<
     const std::vector<PathRequest> reqs = make(rng, u, tol);
     const auto res = run_path(lim, reqs, 3 + rng() % 200);
     expect_within(res, tol, ("seed " + std::to_string(seed)).c_str());
+    EXPECT_LE(res.block_v_ratio, 1 + 1e-9) << "seed " << seed;
+    EXPECT_LE(res.block_a_ratio, 1 + 1e-6) << "seed " << seed;
+    EXPECT_LE(res.block_j_ratio, 1 + 1e-4) << "seed " << seed;
     EXPECT_EQ(res.end, reqs.back().geom.end) << "seed " << seed;
     if (::testing::Test::HasFailure()) break;
   }
 }
 
 // Seeded random paths (lines, arcs, helices, reversals, tiny pieces) with per-axis jerk limits:
-// every setpoint within speed, acceleration and jerk of every axis, and within P of the program.
+// every setpoint within speed, acceleration and jerk of every axis, and within P of the program;
+// the path speed within each block's own cap, acceleration and jerk (expect_random_jerk_paths).
 // (Seed 2 once entered a 0.0045 mm line between two tiny blends faster than it could brake, 5.4x
 // jerk; seed 2 also crossed a curvature jump at full path jerk, 1.27x: both fixed, see
 // docs/planner.md "Jerk".)
@@ -707,6 +711,9 @@ TEST(PlannerJerk, TheKeptFallbackBrakeRunsToRestWithinEveryLimit) {
     EXPECT_LE(res.fig.a_ratio, 1 + kRatioNoise) << what << ": " << res.fig.describe();
     EXPECT_LE(res.fig.j_ratio, 1 + kRatioNoise) << what << ": " << res.fig.describe();
     EXPECT_LE(res.fig.deviation_mm, tol + 1e-9) << what << ": " << res.fig.describe();
+    EXPECT_LE(res.block_v_ratio, 1 + 1e-9) << what;  // and every block's own limits on the way
+    EXPECT_LE(res.block_a_ratio, 1 + 1e-6) << what;
+    EXPECT_LE(res.block_j_ratio, 1 + 1e-4) << what;
     gated_runs += gated;
     if (HasFailure()) break;
   }
