@@ -121,7 +121,7 @@ bool Channel::push_curve(int& budget) {
   if (const auto* a = std::get_if<program::Arc>(&op)) feed = a->feed_mm_s;     // an arc in pieces
   const std::uint32_t first = curve_first_[pc_], last = curve_first_[pc_ + 1];
   while (first + curve_next_ < last) {
-    if (planner_.queue().full() || budget <= 0) return false;
+    if (planner_.queue().full() || budget <= 0 || planning_spent()) return false;
     const auto& seg = curve_segments_[first + curve_next_];
     motion::PathRequest req;
     req.geom = seg;
@@ -177,6 +177,7 @@ void Channel::update(double dt_s) {
     dwell_left_s_ = 0;
   }
   const auto& ins = prog_->instructions;
+  curves_at_cycle_ = planner_.curves_built();
   for (int budget = kMaxInstructionsPerCycle; budget > 0 && pc_ < ins.size(); --budget) {
     const program::Op& op = ins[pc_].op;
     if (const auto* pm = std::get_if<program::PathMode>(&op)) {
@@ -193,7 +194,7 @@ void Channel::update(double dt_s) {
       continue;
     }
     if (auto seg = to_segment(op, plan_pos_)) {
-      if (planner_.queue().full()) return;  // wait for room
+      if (planner_.queue().full() || planning_spent()) return;  // wait for room, or the next cycle
       motion::PathRequest req;
       req.geom = *seg;
       req.rapid = std::holds_alternative<program::Rapid>(op);

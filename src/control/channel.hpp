@@ -18,6 +18,10 @@ class Channel {
  public:
   // Instructions a channel may execute in one cycle: bounds the cycle's work however the program looks.
   static constexpr int kMaxInstructionsPerCycle = 64;
+  // Curves the planner may build in one cycle (blend quintics and fillets, 60–190 µs each: their
+  // arc-length tables and sampled limits): the planning work of a cycle stays under about 1 ms
+  // however many sharp corners the next 64 instructions hold.
+  static constexpr std::uint64_t kMaxCurvesPerCycle = 4;
 
   Channel(motion::Planner& planner, const motion::Interpolator& interp) : planner_(planner), interp_(interp) {}
 
@@ -48,6 +52,8 @@ class Channel {
   void fail(const char* message, motion::PlanResult r);
   // rt-safe: pushes the precomputed segments of the curve at pc_; false while the queue is full.
   bool push_curve(int& budget);
+  // rt-safe: this cycle's planning budget is spent (kMaxCurvesPerCycle curves built since it began).
+  bool planning_spent() const { return planner_.curves_built() - curves_at_cycle_ >= kMaxCurvesPerCycle; }
 
   motion::Planner& planner_;
   const motion::Interpolator& interp_;
@@ -68,6 +74,7 @@ class Channel {
   std::vector<std::uint32_t> curve_first_;
   std::vector<const char*> curve_error_;  // per instruction: why its curve could not be built, or null
   std::uint32_t curve_next_ = 0;           // next segment of the current curve to push
+  std::uint64_t curves_at_cycle_ = 0;      // planner_.curves_built() when this cycle's update began
   std::vector<std::uint8_t> precomputed_;     // per instruction: a line replaced by smoothing segments,
                                            // or an arc cut into pieces (pushed like a curve's)
 };

@@ -572,9 +572,10 @@ void Planner::join(Block& b, double p_mm) {
           // gain, the quintic (tens of µs to build: its length table and sampled limits) is not.
           const double vq = target_speed(a.rapid && b.rapid, std::min(a.feed_mm_s, b.feed_mm_s));
           const bool worth = !(config_.g2_blend_gain * v_arc >= vq);
-          const SegmentResult q = worth && dq > kMinLength_mm
-                                      ? make_corner_blend(a.seg.end, a.seg.dir, b.seg.dir, dq, alpha, beta)
-                                      : SegmentResult{CurveError::BadValue, {}};
+          const bool build = worth && dq > kMinLength_mm;
+          curves_built_ += build ? 1 : 0;
+          const SegmentResult q = build ? make_corner_blend(a.seg.end, a.seg.dir, b.seg.dir, dq, alpha, beta)
+                                        : SegmentResult{CurveError::BadValue, {}};
           const SegmentLimits ql = q.ok() ? segment_limits(q.segment, limits_, config_.centripetal_share, vq) : SegmentLimits{};
           if (q.ok() && ql.v_max_mm_s > config_.g2_blend_gain * v_arc && ql.a_max_mm_s2 > 0 &&
               std::isfinite(ql.a_max_mm_s2)) {
@@ -772,6 +773,7 @@ bool Planner::blend_curves(Block& a, Block& b, double tol, double da_half, Block
     }
   }
   if (!fits) return false;
+  ++curves_built_;
   const SegmentResult q = make_bezier(ctrl);
   if (!q.ok()) return false;
   const SegmentLimits ql = segment_limits(q.segment, limits_, config_.centripetal_share, vq);
@@ -886,6 +888,7 @@ bool Planner::fillet(Block& c, double p_mm) {
     }
     d = lo;
   }
+  ++curves_built_;
   const SegmentResult q = make_corner_blend(v, t0, t1, d, alpha, beta);
   if (!q.ok()) return false;
   const double vq = target_speed(h.rapid, std::min({a.feed_mm_s, h.feed_mm_s, c.feed_mm_s}));

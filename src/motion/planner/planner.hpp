@@ -111,6 +111,9 @@ class Planner {
   const PlannerConfig& config() const { return config_; }
   // Speed the backward pass plans a block for: hard cap, and the feed at the largest override.
   double plan_cap_mm_s(const Block& b) const;
+  // Curves built by push so far (quintic blends, fillets): the costly part of planning, which the
+  // Channel bounds per cycle.
+  std::uint64_t curves_built() const { return curves_built_; }
 
  private:
   PlanResult plan(const PathRequest& req, double merge_dev_mm = 0, std::uint32_t tag_last = 0);
@@ -141,6 +144,7 @@ class Planner {
   MachineLimits limits_;
   PlannerConfig config_;
   PlanQueue queue_;
+  mutable std::uint64_t curves_built_ = 0;
 };
 
 }  // namespace softmc::motion

@@ -93,3 +93,39 @@ TEST(Channel, LongProgramsStreamThroughASmallQueue) {
   EXPECT_EQ(r.ch.state(), control::ChannelState::Finished);
   EXPECT_EQ(r.interp.setpoint().pos, xy(100, 0));
 }
+
+// The planning work of a cycle is bounded: a staircase of 90° corners on a jerk-limited machine
+// makes a quintic blend at every corner (60–190 µs each to build). 64 instructions a cycle would
+// build 64 of them; the channel stops a cycle's planning after kMaxCurvesPerCycle curves and goes
+// on in the next, and the program still runs to its end, on its last point.
+TEST(Channel, PlanningWorkPerCycleIsBounded) {
+  std::vector<program::Op> ops;
+  for (int k = 1; k <= 60; ++k) ops.push_back(program::Linear{xy(2.0 * ((k + 1) / 2), 2.0 * (k / 2)), 100});
+  ops.push_back(program::ProgramEnd{});
+  auto p = prog(ops);
+  motion::MachineLimits lim = limits();
+  for (int i = 0; i < 2; ++i) lim.axis[i].j_max_mm_s3 = 10000;
+  motion::Planner planner{lim, 512};
+  motion::Interpolator interp{planner.queue(), core::Vec{}};
+  control::Channel ch{planner, interp};
+  ch.load(p);
+  ASSERT_TRUE(ch.start({}));
+  std::uint64_t most = 0, before = 0;
+  int cycles = 0;
+  while (ch.state() == control::ChannelState::Running && cycles < 100000) {
+    before = planner.curves_built();
+    ch.update(0.001);
+    most = std::max(most, planner.curves_built() - before);
+    interp.step(0.001);
+    ++cycles;
+  }
+  EXPECT_EQ(ch.state(), control::ChannelState::Finished);
+  EXPECT_GT(planner.curves_built(), 40u);  // the corners this is about were blended by quintics
+  EXPECT_LE(most, control::Channel::kMaxCurvesPerCycle);
+  EXPECT_GE(most, 2u);  // and a cycle does plan several
+  while (!interp.idle() && cycles < 200000) {
+    interp.step(0.001);
+    ++cycles;
+  }
+  EXPECT_EQ(interp.setpoint().pos, xy(60, 60));
+}
