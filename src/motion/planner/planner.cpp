@@ -173,7 +173,8 @@ SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double 
     // and jerk: its cap is then that speed, which nothing asks to exceed.
     const Vec tmax = g.max_abs_tangent();
     const double kappa = g.max_curvature();
-    const double k3 = g.poly.max_dcurvature;
+    // Its tangential part is exactly −κ²: never less than κ², whatever the samples missed.
+    const double k3 = std::max(g.poly.max_dcurvature, kappa * kappa);
     double vt = v_target;
     for (std::size_t i = 0; i < core::kMaxAxes; ++i)
       if (tmax[i] >= 1e-12) vt = std::min(vt, lim.axis[i].v_max_mm_s / tmax[i]);
@@ -859,7 +860,11 @@ bool Planner::fillet(Block& c, double p_mm) {
   const double u0 = core::dot(t0, w), u1 = core::dot(t1, w);
   const double x = (u0 - cc * u1) / det, y = (u1 - cc * u0) / det;
   const Vec v = a.seg.end + t0 * x;
-  if (core::distance(v, c.seg.start - t1 * y) > 1e-6) return false;
+  // V lies ahead of a's end and before c's start (a corner the arc rounds, not one it overshoots),
+  // and the arc turns the way the corner does: else the quintic would leave the arc's far side.
+  if (!(x >= 0) || !(y >= 0) || core::distance(v, c.seg.start - t1 * y) > 1e-6) return false;
+  const Vec turn_dir = t1 - t0;  // the corner bends towards it; so must the arc's curvature
+  if (!(core::dot(h.seg.curvature(h.length / 2), turn_dir) > 0)) return false;
   double alpha = 0, beta = 0;
   corner_blend_shape(delta, alpha, beta);
   const double coef = corner_blend_dev(chord, 1.0, alpha, beta);
@@ -891,6 +896,10 @@ bool Planner::fillet(Block& c, double p_mm) {
   ++curves_built_;
   const SegmentResult q = make_corner_blend(v, t0, t1, d, alpha, beta);
   if (!q.ok()) return false;
+  // And the other way: the arc (its ends and 15 points between) lies within P of the quintic, so the
+  // program is as near the path as the path is to the program.
+  for (int i = 0; i <= 16; ++i)
+    if (!(q.segment.distance_to(h.seg.point(h.length * i / 16)) <= tol)) return false;
   const double vq = target_speed(h.rapid, std::min({a.feed_mm_s, h.feed_mm_s, c.feed_mm_s}));
   const SegmentLimits ql = segment_limits(q.segment, limits_, config_.centripetal_share, vq);
   if (!(ql.v_max_mm_s >= config_.fillet_share * std::min(h.v_cap_mm_s, vq)) || !(ql.a_max_mm_s2 > 0) ||
@@ -906,6 +915,7 @@ bool Planner::fillet(Block& c, double p_mm) {
   set_limits(blend, ql, ql.j_max_mm_s3);
   set_law(blend, [&] { return segment_law(blend.seg, limits_); });
   join_blend(blend, a, c);
+  blend.feed_mm_s = std::min(blend.feed_mm_s, h.feed_mm_s);  // never faster than the arc it replaces
   const double full_c = c.length;
   a.seg = make_line(a.seg.start, v - t0 * d);
   a.length = a.seg.length;

@@ -756,13 +756,20 @@ TEST(PlannerJerk, CurveBlendsJoinTheirNeighboursWithTheirCurvature) {
 // to line within 0.95·P of line, arc and line (Planner::fillet), run at its own cap (8.9 mm/s at
 // P 0.05, 10 000 mm/s³: the arc's own is 7.9). The blocks join with position, tangent and zero
 // curvature; every limit is kept and the corner takes far less time.
-TEST(PlannerJerk, FilletArcsBecomeOneQuinticWithinP) {
-  const auto lim = jerk_limits(100, 1000, 10000);
+// A pocket's corner at P 0.05: a 10 mm line along +x, a tangent R0.5 quarter arc at `arc_feed`,
+// a 10 mm line along +y (F100 both).
+static std::vector<PathRequest> pocket_corner(double arc_feed) {
   std::vector<PathRequest> reqs{line_req(xyz(0, 0), xyz(10, 0), 100, 0, 0.05)};
-  PathRequest arc = arc_req(make_arc(xyz(10, 0), xyz(10.5, 0.5), 0, 1, 10, 0.5, 1), 100, 1);
+  PathRequest arc = arc_req(make_arc(xyz(10, 0), xyz(10.5, 0.5), 0, 1, 10, 0.5, 1), arc_feed, 1);
   arc.tolerance_mm = 0.05;
   reqs.push_back(arc);
   reqs.push_back(line_req(xyz(10.5, 0.5), xyz(10.5, 10.5), 100, 2, 0.05));
+  return reqs;
+}
+
+TEST(PlannerJerk, FilletArcsBecomeOneQuinticWithinP) {
+  const auto lim = jerk_limits(100, 1000, 10000);
+  const auto reqs = pocket_corner(100);
   const auto blocks = [&](const PlannerConfig& pc) {
     Planner planner(lim, 16, pc);
     for (const auto& r : reqs) EXPECT_EQ(planner.push(r), PlanResult::Ok);
@@ -890,4 +897,55 @@ TEST(PlannerJerk, RandomRoundedPolygonsKeepTheLimitsThroughTheirFillets) {
     for (std::size_t k = 0; k < planner.queue().ring().size(); ++k) left += planner.queue().ring().at(k).seg.kind == SegmentKind::Arc;
   }
   EXPECT_LT(left, programmed / 2) << left << " of " << programmed;
+}
+
+// A fillet runs no faster than any of the three moves it replaces: CAM lowers the feed on corner
+// arcs (here F5 on the arc between two F100 lines), and the quintic keeps the arc's feed. And an
+// arc that turns against its corner (a right-hand arc between lines turning left) is no fillet:
+// the quintic would pass the arc's far side; the arc is kept, and both the setpoints and the
+// program's arc lie within P of each other.
+TEST(PlannerJerk, FilletsKeepTheArcsFeedAndItsSide) {
+  const auto lim = jerk_limits(100, 1000, 10000);
+  const auto reqs = pocket_corner(5);
+  double v_corner = 0;  // fastest over the fillet: from where it leaves the first line to where it joins the second
+  const auto hook = [&](std::uint64_t, Interpolator& in) {
+    const auto& p = in.setpoint().pos;
+    if (p[0] > 9.7 && p[1] < 0.8) v_corner = std::max(v_corner, in.setpoint().path_v);
+  };
+  const auto res = run_path(lim, reqs, 16, {}, hook);
+  expect_within(res, 0.05, "F5 fillet");
+  EXPECT_GT(v_corner, 4.0);
+  EXPECT_LE(v_corner, 5 + 1e-9);
+  {
+    Planner planner(lim, 16);
+    for (const auto& r : reqs) ASSERT_EQ(planner.push(r), PlanResult::Ok);
+    planner.flush();
+    ASSERT_EQ(planner.queue().ring().size(), 3u);  // still a fillet, at the arc's feed
+    EXPECT_EQ(planner.queue().ring().at(1).feed_mm_s, 5.0);
+  }
+  // The wrong way: a clockwise R0.04 arc of 1 rad after a +x line, then on at 30° to the left.
+  const double r = 0.04, th = 1.0, k = 30 * std::numbers::pi / 180;
+  const core::Vec e = xyz(r * std::sin(th), -r + r * std::cos(th));
+  std::vector<PathRequest> wrong{line_req(xyz(-10, 0), xyz(0, 0), 20, 0, 0.05)};
+  PathRequest cw = arc_req(make_arc(xyz(0, 0), e, 0, 1, 0, -r, -1), 20, 1);
+  cw.tolerance_mm = 0.05;
+  wrong.push_back(cw);
+  wrong.push_back(line_req(e, e + xyz(std::cos(k), std::sin(k)) * 10, 20, 2, 0.05));
+  Planner planner(lim, 16);
+  for (const auto& q : wrong) ASSERT_EQ(planner.push(q), PlanResult::Ok);
+  planner.flush();
+  std::size_t arcs = 0;
+  for (std::size_t i = 0; i < planner.queue().ring().size(); ++i) arcs += planner.queue().ring().at(i).seg.kind == SegmentKind::Arc;
+  EXPECT_EQ(arcs, 1u);
+  std::vector<core::Vec> trace;
+  const auto wr = run_path(lim, wrong, 16, {}, {}, 20'000'000, {}, &trace);
+  expect_within(wr, 0.05, "wrong-way arc");
+  double far = 0;  // the program's arc from the setpoints
+  for (int i = 0; i <= 50; ++i) {
+    const core::Vec p = cw.geom.point(cw.geom.length * i / 50);
+    double d = 1e300;
+    for (std::size_t s = 0; s + 1 < trace.size(); ++s) d = std::min(d, make_line(trace[s], trace[s + 1]).distance_to(p));
+    far = std::max(far, d);
+  }
+  EXPECT_LE(far, 0.05);
 }
