@@ -389,28 +389,37 @@ double PolyCurve::finalize(bool estimate) {
   }
   Vec t, k, k_prev;
   double sp_prev = 0;
-  int i_peak = 0;  // the sample ending the interval with the largest |Δκ|/Δs
-  for (int i = 0; i <= kSamples; ++i) {
-    const CurveDerivs d = derivs(static_cast<double>(i) / kSamples);
+  // One sample (its derivatives d): tangent and curvature into t, k, and the secant |Δκ|/Δs from
+  // the previous sample, du of u before it (Δs by the trapezoid rule on |C'|; 0 for the first).
+  const auto sample = [&](double du, bool first, const CurveDerivs& d) {
     tangent_curvature(d, ax.data(), m, t, k);
-    double sp2 = 0, k2 = 0, dk2 = 0;
+    double sp2 = 0, dk2 = 0;
+    for (std::size_t j = 0; j < m; ++j) {
+      const std::size_t a = ax[j];
+      sp2 += d.d1[a] * d.d1[a];
+      dk2 += (k[a] - k_prev[a]) * (k[a] - k_prev[a]);
+    }
+    const double sp = std::sqrt(sp2), ds = 0.5 * (sp + sp_prev) * du;
+    k_prev = k;
+    sp_prev = sp;
+    return !first && ds > 1e-300 ? std::sqrt(dk2) / ds : 0.0;
+  };
+  int i_peak = 0;  // the sample ending the interval with the largest secant
+  for (int i = 0; i <= kSamples; ++i) {
+    const double u = static_cast<double>(i) / kSamples;
+    const CurveDerivs d = derivs(u);
+    const double dk = sample(1.0 / kSamples, i == 0, d);
+    double k2 = 0;
     for (std::size_t j = 0; j < m; ++j) {
       const std::size_t a = ax[j];
       max_abs_tangent[a] = std::max(max_abs_tangent[a], std::abs(t[a]));
-      sp2 += d.d1[a] * d.d1[a];
       k2 += k[a] * k[a];
-      dk2 += (k[a] - k_prev[a]) * (k[a] - k_prev[a]);
     }
     max_curvature = std::max(max_curvature, std::sqrt(k2));
-    // dκ/ds between samples: Δκ over the arc length between them (trapezoid rule on |C'|).
-    const double sp = std::sqrt(sp2);
-    const double ds = 0.5 * (sp + sp_prev) / kSamples;
-    if (i > 0 && ds > 1e-300 && std::sqrt(dk2) / ds > max_dcurvature) {
-      max_dcurvature = std::sqrt(dk2) / ds;
+    if (dk > max_dcurvature) {
+      max_dcurvature = dk;
       i_peak = i;
     }
-    k_prev = k;
-    sp_prev = sp;
   }
   // A secant over 1/kSamples of u is the mean of |dκ/ds| there, below its peak by as much as the
   // peak is sharp (1.7–2.2× on near-cusp cubics): the intervals either side of the largest are
@@ -420,19 +429,8 @@ double PolyCurve::finalize(bool estimate) {
     const double u0 = static_cast<double>(i_peak - 1) / kSamples, du = 1.0 / (kSamples * kFine);
     const int steps = (i_peak < kSamples ? 2 : 1) * kFine;
     for (int i = 0; i <= steps; ++i) {
-      const CurveDerivs d = derivs(u0 + i * du);
-      tangent_curvature(d, ax.data(), m, t, k);
-      double sp2 = 0, dk2 = 0;
-      for (std::size_t j = 0; j < m; ++j) {
-        const std::size_t a = ax[j];
-        sp2 += d.d1[a] * d.d1[a];
-        dk2 += (k[a] - k_prev[a]) * (k[a] - k_prev[a]);
-      }
-      const double sp = std::sqrt(sp2);
-      const double ds = 0.5 * (sp + sp_prev) * du;
-      if (i > 0 && ds > 1e-300) max_dcurvature = std::max(max_dcurvature, std::sqrt(dk2) / ds);
-      k_prev = k;
-      sp_prev = sp;
+      const double u = u0 + i * du;
+      max_dcurvature = std::max(max_dcurvature, sample(du, i == 0, derivs(u)));
     }
   }
   return err;

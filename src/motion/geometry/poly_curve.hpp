@@ -12,6 +12,8 @@
 // 1e-12 mm of arc length. A value type of fixed size: copying it never allocates.
 #pragma once
 
+#include <algorithm>
+
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -63,6 +65,9 @@ struct PolyCurve {
   Vec max_abs_tangent;
   double max_curvature = 0;
   double max_dcurvature = 0;  // largest |dκ/ds| of the curvature vector (1/mm²), sampled likewise
+  // The speed term of the path jerk per v³ (1/mm²): |dκ/ds| of the curvature vector, whose tangential
+  // part is exactly −κ², so never below κ² whatever the samples missed.
+  double jerk_speed_term() const { return std::max(max_dcurvature, max_curvature * max_curvature); }
   // The 8-point rule agrees with the 16-point one within 1e-14 of the length on every table
   // interval (finalize): s → u then integrates its partial interval with 8 points (half the work).
   bool gl8_ok = false;

@@ -44,7 +44,7 @@ void append_piece(std::vector<Segment>& out, const std::array<Vec, 4>& c, const 
   const std::array<Vec, 4> lc{c[0], m01, l2, mid}, rc{mid, r1, m23, c[3]};
   const Segment left = make_cubic_bezier(lc[0], lc[1], lc[2], lc[3]);
   const Segment right = make_cubic_bezier(rc[0], rc[1], rc[2], rc[3]);
-  const auto k3 = [](const Segment& g) { return g.poly.max_dcurvature; };
+  const auto k3 = [](const Segment& g) { return g.poly.jerk_speed_term(); };
   const double k3_low = std::min(k3(left), k3(right)), k_low = std::min(left.poly.max_curvature, right.poly.max_curvature);
   if (!(k3_low < 0.25 * k3(whole)) && !(k_low < 0.4 * whole.poly.max_curvature)) {
     out.push_back(whole);

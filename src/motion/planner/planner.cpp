@@ -173,8 +173,7 @@ SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double 
     // and jerk: its cap is then that speed, which nothing asks to exceed.
     const Vec tmax = g.max_abs_tangent();
     const double kappa = g.max_curvature();
-    // Its tangential part is exactly −κ²: never less than κ², whatever the samples missed.
-    const double k3 = std::max(g.poly.max_dcurvature, kappa * kappa);
+    const double k3 = g.poly.jerk_speed_term();
     double vt = v_target;
     for (std::size_t i = 0; i < core::kMaxAxes; ++i)
       if (tmax[i] >= 1e-12) vt = std::min(vt, lim.axis[i].v_max_mm_s / tmax[i]);
