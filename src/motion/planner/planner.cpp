@@ -347,6 +347,16 @@ CurveLaw blend_law(const BlendArc& b, const MachineLimits& lim) {
 Planner::Planner(const MachineLimits& limits, std::size_t queue_capacity, const PlannerConfig& config)
     : limits_(limits), config_(config), queue_(queue_capacity) {}
 
+// rt-safe. A blend the planner built lies inside every present axis's travel (P-9): the programmed
+// moves were checked when pushed, a blend within P of them may still pass a limit they touch.
+bool Planner::inside_travel(const Segment& g) const {
+  Vec lo, hi;
+  g.bounds(lo, hi);
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i)
+    if (limits_.present(i) && (lo[i] < limits_.axis[i].min_mm || hi[i] > limits_.axis[i].max_mm)) return false;
+  return true;
+}
+
 // rt-safe
 double Planner::plan_cap_mm_s(const Block& b) const {
   return std::min(b.v_cap_mm_s, b.feed_mm_s * config_.max_feed_override);
@@ -506,8 +516,8 @@ void Planner::advance(Block& b, double p_mm) {
   join(b, p_mm);
 }
 
-// rt-safe. Plans a held arc on its own: the next block was no line leaving it along its tangent, or
-// the fillet did not fit or was slower.
+// rt-safe. Plans a held arc on its own: the next block was no line, or the fillet did not fit, or
+// was slower.
 void Planner::release_held() {
   if (!queue_.has_held_) return;
   queue_.has_held_ = false;
@@ -795,10 +805,7 @@ bool Planner::blend_curves(Block& a, Block& b, double tol, double da_half, Block
   };
   if (!(ql.v_max_mm_s > gain * v_alt) || !(loss(ql.v_max_mm_s, q.segment.length) < (tangent ? 1.0 : 0.9) * loss(v_alt, 0)) || !(ql.a_max_mm_s2 > 0) || !std::isfinite(ql.a_max_mm_s2)) return false;
   // The quintic may bulge past the corner (an arc's side): it must stay inside the travel too.
-  Vec lo, hi;
-  q.segment.bounds(lo, hi);
-  for (std::size_t i = 0; i < core::kMaxAxes; ++i)
-    if (limits_.present(i) && (lo[i] < limits_.axis[i].min_mm || hi[i] > limits_.axis[i].max_mm)) return false;
+  if (!inside_travel(q.segment)) return false;
   blend = Block{};
   blend.seg = q.segment;
   blend.length = q.segment.length;
@@ -851,8 +858,7 @@ bool Planner::fillet(Block& c, double p_mm) {
   const double chord = core::norm(t1 - t0);
   const double delta = 2 * std::asin(std::min(1.0, chord / 2));
   if (!(delta > config_.tangent_rad) || delta > kFilletMaxRad) return false;
-  // V: a's end + x·t0 = c's start − y·t1 (the two lines meet: the arc lies in their plane). On a
-  // tangent fillet x, y > 0; where a line meets the arc at a corner, V may lie behind that end.
+  // V: a's end + x·t0 = c's start − y·t1 (the two lines meet: the arc lies in their plane).
   const Vec w = c.seg.start - a.seg.end;
   const double cc = core::dot(t0, t1), det = 1 - cc * cc;
   if (!(det > 1e-12)) return false;
@@ -904,10 +910,7 @@ bool Planner::fillet(Block& c, double p_mm) {
   if (!(ql.v_max_mm_s >= config_.fillet_share * std::min(h.v_cap_mm_s, vq)) || !(ql.a_max_mm_s2 > 0) ||
       !std::isfinite(ql.a_max_mm_s2))
     return false;
-  Vec lo, hi;  // within P of the program, it may still pass a soft limit the program touches
-  q.segment.bounds(lo, hi);
-  for (std::size_t i = 0; i < core::kMaxAxes; ++i)
-    if (limits_.present(i) && (lo[i] < limits_.axis[i].min_mm || hi[i] > limits_.axis[i].max_mm)) return false;
+  if (!inside_travel(q.segment)) return false;  // within P of the program, it may still pass a soft limit it touches
   Block blend;
   blend.seg = q.segment;
   blend.length = q.segment.length;

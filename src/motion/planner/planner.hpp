@@ -132,6 +132,7 @@ class Planner {
   bool holds_fillet(const Block& b, double p_mm) const;
   bool fillet(Block& c, double p_mm);
   void release_held();
+  bool inside_travel(const Segment& g) const;
   static constexpr double kFilletMaxRad = 2.7;   // fillets turn less (arc and corners together)
   static constexpr double kFilletMaxTurn = 1.5;  // |Δt| at either end of the arc: about 97°
   // The fastest a move is asked to go: its feed at the highest override (∞ for rapids: the axes').
