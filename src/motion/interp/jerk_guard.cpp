@@ -241,6 +241,7 @@ void JerkGuard::index_block() const {
   g.group_min[q] = first ? jk : std::min(g.group_min[q], jk);
   g.group_cap[q] = first ? cap : std::min(g.group_cap[q], cap);
   g.group_u2[q] = first ? b.v2_junction : std::min(g.group_u2[q], b.v2_junction);
+  g.group_acc[q] = first ? g.acc[k] : std::min(g.group_acc[q], g.acc[k]);
   g.start[k + 1] = g.start[k] + b.length;
   ++g.built;
 }
@@ -479,56 +480,106 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   // (brake()), |a| ≤ A: the certificate takes its jerk over the same range, so it accepts no more
   // than π would (greedy steps that π refuses end up slower). When all of those blocks have
   // exactly A and J (uniform), π is this same ramp.
-  const auto scan = [&] { return (x.a > 0 ? x.v + x.a * x.a / (2 * j) : x.v) * (a / j + 2 * dt_) + kTouch_mm; };
+  const auto scan = [&x, this](double a_, double j_) {
+    return (x.a > 0 ? x.v + x.a * x.a / (2 * j_) : x.v) * (a_ / j_ + 2 * dt_) + kTouch_mm;
+  };
   bool uniform = true;
   double stop_at = kInf;  // from p: the first exact stop or the window's end the walk meets
   // Two cursors over the blocks after c.k: `ks` scans (jerk, stops, uniformity) up to the ramp's
   // reach plus π's scan; `ke` follows it over the blocks the ramp enters (acceleration). Each lower
   // limit lengthens the ramp, and both cursors go on from where they are.
+  // A lowered limit only lengthens the ramp, so its distance is brought up to date (`refresh`) only
+  // where the walk would otherwise stop: one ramp per extension of the walk, not one per block.
+  // reach_d = reach(d) and scan_x = scan() as of the present limits. A whole group of 16 (g.groups)
+  // is taken at once where none of its blocks would lower a limit and its last one is within
+  // reach: one by one, the walk would go through all 16 changing nothing.
+  // (Plain locals, no closures over them: this walk is most of a smoothed path's cycle.)
   const GuardScratch& g = g_;
+  constexpr std::size_t G = GuardScratch::kGroup;
+  const bool groups = g.groups;
   std::size_t ks = c.k + 1, ke = c.k + 1;
-  // A lowered limit only lengthens the ramp, so its distance is brought up to date only where the
-  // walk would otherwise stop (`within`): one ramp per extension of the walk, not one per block.
-  bool dirty = false, bad = false;
-  const auto within = [&](double at, double extra) {
-    if (at <= reach(d) + extra) return true;
-    if (!dirty) return false;
+  bool dirty = false;
+  double reach_d = reach(d), scan_x = scan(a, j);
+  bool scan_stale = false;
+  const auto refresh = [&] {  // false: no ramp any more
     dirty = false;
     d = distance();
-    if (!(d >= 0)) {
-      bad = true;
-      return false;
-    }
-    return at <= reach(d) + extra;
-  };
-  const auto enter = [&] {  // blocks ke < ks are indexed (the scan has read them)
-    for (; ke < ks && within(start(ke) - p, 0); ++ke) {
-      if (g.acc[ke] < a) {
-        if (gate && *gate == 0 && g.acc[ke] < 0.5 * a) *gate = ke;  // the first far lower one: certify_gated's
-        a = g.acc[ke];
-        dirty = true;
-      }
-    }
+    if (!(d >= 0)) return false;
+    reach_d = reach(d);
+    return true;
   };
   for (;; ++ks) {
-    enter();
-    if (bad) return Cert::Unknown;
-    index_through(ks);  // its start, and its limits when it is inside the window
+    // Enter the blocks ke < ks (indexed: the scan has read them) that the ramp reaches.
+    while (ke < ks) {
+      if (groups && ke % G == 0 && ke + G <= ks && g.group_acc[ke / G] >= a) {
+        const double at = start(ke + G - 1) - p;
+        if (!(at <= reach_d) && dirty && !refresh()) return Cert::Unknown;
+        if (at <= reach_d) {
+          ke += G;
+          continue;
+        }
+      }
+      const double at = start(ke) - p;
+      if (!(at <= reach_d)) {
+        if (!dirty) break;
+        if (!refresh()) return Cert::Unknown;
+        if (!(at <= reach_d)) break;
+      }
+      const double ak = g.acc[ke];
+      if (ak < a) {
+        if (gate && *gate == 0 && ak < 0.5 * a) *gate = ke;  // the first far lower one: certify_gated's
+        a = ak;
+        dirty = scan_stale = true;
+      }
+      ++ke;
+    }
+    if (scan_stale) scan_x = scan(a, j), scan_stale = false;
+    if (groups && ks % G == 0 && ks + G <= n_) {
+      if (ks + G > g.built) index_through(ks + G - 1);
+      const std::size_t q = ks / G;
+      if (g.group_acc[q] >= a && g.group_min[q] >= j && g.group_u2[q] > 0) {
+        const double at = start(ks + G - 1) - p;
+        if (!(at <= reach_d + scan_x) && dirty && !refresh()) return Cert::Unknown;
+        if (at <= reach_d + scan_x) {
+          for (std::size_t i = ks; uniform && i < ks + G; ++i) uniform = g.acc[i] == a && g.jerk[i] == j;
+          ks += G - 1;
+          continue;
+        }
+      }
+    }
+    if (ks >= g.built) index_through(ks);  // its start, and its limits when it is inside the window
     const double ss = start(ks) - p;
-    if (!within(ss, scan())) break;
+    if (!(ss <= reach_d + scan_x)) {
+      if (!dirty) break;
+      if (!refresh()) return Cert::Unknown;
+      if (!(ss <= reach_d + scan_x)) break;
+    }
     if (ks >= n_ || g.u2[ks] <= 0) {
       stop_at = ss;
       break;
     }
-    if (g.acc[ks] != a || g.jerk[ks] != j) uniform = false;
-    if (g.jerk[ks] < j) {
-      j = g.jerk[ks];
-      dirty = true;
+    const double jk = g.jerk[ks];
+    if (g.acc[ks] != a || jk != j) uniform = false;
+    if (jk < j) {
+      j = jk;
+      dirty = scan_stale = true;
     }
   }
-  if (bad) return Cert::Unknown;
-  enter();
-  if (bad) return Cert::Unknown;
+  // The blocks scanned last that the ramp reaches.
+  while (ke < ks) {
+    const double at = start(ke) - p;
+    if (!(at <= reach_d)) {
+      if (!dirty) break;
+      if (!refresh()) return Cert::Unknown;
+      if (!(at <= reach_d)) break;
+    }
+    if (g.acc[ke] < a) {
+      if (gate && *gate == 0 && g.acc[ke] < 0.5 * a) *gate = ke;
+      a = g.acc[ke];
+      dirty = true;
+    }
+    ++ke;
+  }
   if (dirty && !((d = distance()) >= 0)) return Cert::Unknown;
   v.brake_s = r.dur[0] + r.dur[1] + r.dur[2] + r.dur[3];
   const auto broken = [&](bool hard, double at, double u, bool stop) {
@@ -538,7 +589,6 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   // Every block the ramp enters (all indexed: the scan went beyond them), one by one, or a group
   // of 16 at once where all its caps and junction speeds are at least the ramp's peak v_up, none
   // of them a stop, beyond where |a| is brought down (phase 0): each block's test passes there.
-  constexpr std::size_t G = GuardScratch::kGroup;
   const double v_up2 = r.v_up * r.v_up * (1 + 1e-12);
   const double phase0_end = r.dur[0] > 0 ? reach(r.at[1].s) : -kInf;
   for (std::size_t k = c.k;;) {

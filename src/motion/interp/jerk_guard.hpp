@@ -92,9 +92,10 @@ struct GuardScratch {
   explicit GuardScratch(std::size_t blocks)
       : start(blocks + 1), jerk(blocks + 1), acc(blocks + 1), hard(blocks + 1), soft(blocks + 1), u2(blocks + 1),
         group_min(blocks / kGroup + 2), group_cap(blocks / kGroup + 2), group_u2(blocks / kGroup + 2),
-        stops(blocks + 1) {}
+        group_acc(blocks / kGroup + 2), stops(blocks + 1) {}
   std::vector<double> start, jerk, acc, hard, soft, u2;  // soft: before relaxing the front's to v_now
   std::vector<double> group_min, group_cap, group_u2;    // per group: least jerk, cap (hard or soft), u²
+  std::vector<double> group_acc;                         // per group: least acceleration
   std::vector<std::size_t> stops;
   bool groups = true;
   std::uint64_t groups_skipped = 0;  // by the certificate, since construction
