@@ -170,50 +170,86 @@ namespace {
 // |C'(u)| for the integrals, the inner loop of s → u. For Bézier curves it converts the control
 // points once into monomial coefficients of the axes that actually move (usually two or three of
 // nine) and then costs a Horner pass per axis. rt-safe: fixed arrays on the stack.
+// Bernstein → monomial by forward differences: a_j = C(n, j)·Δʲb_0.
+void to_monomial(std::size_t n, std::array<double, kMaxBezierDegree + 1> b, std::array<double, kMaxBezierDegree + 1>& a) {
+  static_assert(kMaxBezierDegree == 5, "kBinom lists the rows up to the highest degree");
+  static constexpr std::array<std::array<double, kMaxBezierDegree + 1>, kMaxBezierDegree + 1> kBinom{{
+      {1, 0, 0, 0, 0, 0}, {1, 1, 0, 0, 0, 0}, {1, 2, 1, 0, 0, 0}, {1, 3, 3, 1, 0, 0}, {1, 4, 6, 4, 1, 0},
+      {1, 5, 10, 10, 5, 1}}};
+  for (std::size_t j = 0; j <= n; ++j) {
+    a[j] = kBinom[n][j] * b[0];
+    for (std::size_t i = 0; i + j < n; ++i) b[i] = b[i + 1] - b[i];
+  }
+}
+
+// A polynomial Bézier's |C'|² as one polynomial of degree 2(n − 1): the sum over the moving axes of
+// the squares of their derivatives (PolyCurve::speed2; rational curves and Newton graphs: none).
+void fill_speed2(PolyCurve& c) {
+  c.speed2 = {};
+  c.speed2_degree = 0;
+  c.has_speed2 = false;
+  if (c.basis != PolyBasis::Bezier) return;
+  const auto& b = c.bez;
+  const std::size_t n = c.degree;
+  for (std::size_t i = 1; i <= n; ++i)
+    if (b.w[i] != b.w[0]) return;
+  const double scale = 1.0 / b.w[0];
+  for (std::size_t a = 0; a < core::kMaxAxes; ++a) {
+    bool moves = false;
+    for (std::size_t i = 1; i <= n; ++i) moves = moves || b.hctrl[i][a] != b.hctrl[0][a];
+    if (!moves) continue;  // a constant coordinate has no derivative
+    std::array<double, kMaxBezierDegree + 1> v{}, m{};
+    for (std::size_t i = 0; i <= n; ++i) v[i] = b.hctrl[i][a] * scale;
+    to_monomial(n, v, m);
+    std::array<double, kMaxBezierDegree> dc{};  // C_a'(u) = Σ (j + 1)·m_{j+1}·u^j
+    for (std::size_t i = 0; i < n; ++i) dc[i] = static_cast<double>(i + 1) * m[i + 1];
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t k = 0; k < n; ++k) c.speed2[i + k] += dc[i] * dc[k];
+  }
+  c.speed2_degree = static_cast<std::uint8_t>(n > 0 ? 2 * (n - 1) : 0);
+  c.has_speed2 = true;
+}
+
 class SpeedEval {
  public:
   explicit SpeedEval(const PolyCurve& c) : c_(c) {
     if (c.basis != PolyBasis::Bezier) return;
     const auto& b = c.bez;
     n_ = c.degree;
-    rational_ = false;
-    for (std::size_t i = 1; i <= n_; ++i) rational_ = rational_ || b.w[i] != b.w[0];
-    const double scale = rational_ ? 1.0 : 1.0 / b.w[0];
+    if (c.has_speed2) return;  // polynomial: |C'|² from the curve (PolyCurve::speed2, finalize)
+    rational_ = true;         // (or not finalized: the quotient form holds for equal weights too)
     for (std::size_t a = 0; a < core::kMaxAxes; ++a) {
       bool moves = false;
       for (std::size_t i = 1; i <= n_; ++i) moves = moves || b.hctrl[i][a] * b.w[0] != b.hctrl[0][a] * b.w[i];
       if (!moves) continue;  // a constant coordinate has no derivative
       std::array<double, kMaxBezierDegree + 1> v{};
-      for (std::size_t i = 0; i <= n_; ++i) v[i] = b.hctrl[i][a] * scale;
-      to_monomial(v, h_[dims_++]);
+      for (std::size_t i = 0; i <= n_; ++i) v[i] = b.hctrl[i][a];
+      to_monomial(n_, v, h_[dims_++]);
     }
-    if (rational_) to_monomial(b.w, w_);
+    to_monomial(n_, b.w, w_);
   }
 
   double operator()(double u) const {
     if (c_.basis != PolyBasis::Bezier) return c_.speed(u);
+    if (!rational_) {  // has_speed2
+      const auto& q2 = c_.speed2;
+      double q = q2[c_.speed2_degree];
+      for (std::size_t j = c_.speed2_degree; j-- > 0;) q = q * u + q2[j];
+      return std::sqrt(std::max(0.0, q));
+    }
     double w = 1, dw = 0;
-    if (rational_) horner(w_, u, w, dw);
+    horner(w_, u, w, dw);
     double sum = 0;
     for (std::size_t d = 0; d < dims_; ++d) {
       double h, dh;
       horner(h_[d], u, h, dh);
-      const double num = rational_ ? dh * w - h * dw : dh;  // (H'W - HW') / W²
+      const double num = dh * w - h * dw;  // (H'W - HW') / W²
       sum += num * num;
     }
-    return rational_ ? std::sqrt(sum) / (w * w) : std::sqrt(sum);
+    return std::sqrt(sum) / (w * w);
   }
 
  private:
-  // Bernstein → monomial by forward differences: a_j = C(n, j)·Δʲb_0.
-  void to_monomial(std::array<double, kMaxBezierDegree + 1> b, std::array<double, kMaxBezierDegree + 1>& a) const {
-    double binom = 1;
-    for (std::size_t j = 0; j <= n_; ++j) {
-      a[j] = binom * b[0];
-      for (std::size_t i = 0; i + j < n_; ++i) b[i] = b[i + 1] - b[i];
-      binom = binom * static_cast<double>(n_ - j) / static_cast<double>(j + 1);
-    }
-  }
   void horner(const std::array<double, kMaxBezierDegree + 1>& a, double u, double& p, double& dp) const {
     p = a[n_];
     dp = 0;
@@ -333,6 +369,7 @@ Vec curvature_vector(const CurveDerivs& d) {
 }
 
 double PolyCurve::finalize(bool estimate) {
+  fill_speed2(*this);
   s_at[0] = 0;
   double err = 0, d8 = 0;
   const SpeedEval speed_at(*this);

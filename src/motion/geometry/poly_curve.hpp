@@ -68,6 +68,12 @@ struct PolyCurve {
   // The speed term of the path jerk per v³ (1/mm²): |dκ/ds| of the curvature vector, whose tangential
   // part is exactly −κ², so never below κ² whatever the samples missed.
   double jerk_speed_term() const { return std::max(max_dcurvature, max_curvature * max_curvature); }
+  // A polynomial Bézier's |C'(u)|² in powers of u (degree 2·(degree − 1)), filled by finalize: the
+  // speed in the arc-length integrals is one Horner pass and a square root (rational curves and
+  // Newton graphs: has_speed2 false).
+  std::array<double, 2 * kMaxBezierDegree - 1> speed2{};
+  std::uint8_t speed2_degree = 0;
+  bool has_speed2 = false;
   // The 8-point rule agrees with the 16-point one within 1e-14 of the length on every table
   // interval (finalize): s → u then integrates its partial interval with 8 points (half the work).
   bool gl8_ok = false;
