@@ -70,7 +70,7 @@ ProfileState Otg1::begin(const OtgLimits& lim) {
   return b;
 }
 
-// rt-safe: at most kGrid + 7 trials to bracket, then ≤ 100 bisection steps per bracket.
+// rt-safe: at most kGrid + 7 trials to bracket, then ≤ 100 root-finding steps per bracket.
 OtgResult Otg1::update(double target_mm, const OtgLimits& limits) {
   OtgLimits lim = limits;
   if (!normalise(lim) || !std::isfinite(target_mm) || !finite(now_)) return OtgResult::ErrorInvalidInput;
@@ -117,17 +117,42 @@ OtgResult Otg1::update(double target_mm, const OtgLimits& limits) {
     f[i] = tr.length_mm - dp;
     if (f[i] == 0) consider(vs[i], tr.length_mm, tr.duration_s, false);
   }
+  // Each bracket holds one root of the length (smooth between the kinks): the Illinois form of
+  // regula falsi, with a bisection step whenever it does not halve the bracket, until the length is
+  // within a picometre-scale tolerance of the distance or the bracket is down to rounding (about
+  // ten trials a bracket instead of fifty for bisection alone).
+  const double tol_mm = 1e-13 * std::max(1.0, std::abs(dp));
   for (int i = 0; i + 1 < n; ++i) {
     if (f[i] == 0 || f[i + 1] == 0 || (f[i] < 0) == (f[i + 1] < 0)) continue;
-    double lo = vs[i], hi = vs[i + 1];
-    const bool rising = f[i] < 0;
-    for (int k = 0; k < 100 && hi - lo > 1e-15 * vm; ++k) {
-      const double mid = 0.5 * (lo + hi);
-      ((otg_peak_trial(b, mid, lim).length_mm < dp) == rising ? lo : hi) = mid;
+    double lo = vs[i], hi = vs[i + 1], flo = f[i], fhi = f[i + 1];
+    double best_v = std::abs(flo) <= std::abs(fhi) ? lo : hi;
+    PeakTrial best_t = otg_peak_trial(b, best_v, lim);
+    double best_f = std::abs(best_t.length_mm - dp);
+    int side = 0;  // the end kept in the last step (Illinois: halve its value when kept twice)
+    double width = hi - lo;  // at the last check (every third step)
+    for (int k = 0; k < 100 && hi - lo > 1e-15 * vm && best_f > tol_mm; ++k) {
+      bool bisect = false;
+      if (k % 3 == 2) {
+        bisect = hi - lo > 0.5 * width;
+        width = hi - lo;
+      }
+      double mid = bisect ? 0.5 * (lo + hi) : (lo * fhi - hi * flo) / (fhi - flo);
+      if (!(mid > lo && mid < hi)) mid = 0.5 * (lo + hi);
+      const PeakTrial tr = otg_peak_trial(b, mid, lim);
+      const double fm = tr.length_mm - dp;
+      if (std::abs(fm) < best_f) best_v = mid, best_t = tr, best_f = std::abs(fm);
+      if (fm == 0) break;
+      if ((fm < 0) == (flo < 0)) {
+        lo = mid, flo = fm;
+        if (side == -1) fhi *= 0.5;
+        side = -1;
+      } else {
+        hi = mid, fhi = fm;
+        if (side == 1) flo *= 0.5;
+        side = 1;
+      }
     }
-    const PeakTrial tl = otg_peak_trial(b, lo, lim), th = otg_peak_trial(b, hi, lim);
-    if (std::abs(tl.length_mm - dp) <= std::abs(th.length_mm - dp)) consider(lo, tl.length_mm, tl.duration_s, false);
-    else consider(hi, th.length_mm, th.duration_s, false);
+    consider(best_v, best_t.length_mm, best_t.duration_s, false);
   }
 
   // Lay the winner out (there always is one: the length function is continuous between the ±v_max trials).
