@@ -6,9 +6,10 @@
 //
 // Position mode chooses v_peak ∈ [−v_max, v_max]: either cruise at ±v_max, or no cruise with the two ramps
 // covering the distance exactly (roots bracketed on the length function's kink speeds and a coarse grid, then
-// bisection); the fastest candidate wins. The family is that of Ruckig's 7-phase UDDU/UDUD profiles for a target
-// at rest (a = 0 where the cruise would be); from rest it equals the S-curve, and no peak speed found by a dense
-// brute-force scan beats the one chosen (tests). Bounded work, no allocation.
+// Illinois regula falsi, safeguarded by bisection); the fastest candidate wins. The family is that of Ruckig's
+// 7-phase UDDU/UDUD profiles for a target at rest (a = 0 where the cruise would be); from rest it equals the
+// S-curve, and no peak speed found by a dense brute-force scan beats the one chosen (tests). Bounded work, no
+// allocation.
 //
 // Documented exceptions to the limits, all unavoidable from the given state:
 //  - |v0| > v_max (e.g. the limit was lowered): the speed falls monotonically to the new v_max first;
