@@ -92,7 +92,9 @@ struct BrakeRamp {
   double v_up = 0;
 
   BrakeRamp() = default;
-  BrakeRamp(const ProfileState& x, double a, double j) {
+  BrakeRamp(const ProfileState& x, double a, double j) { build(x, a, j); }
+  // Rebuilt in place (the certificate's walk rebuilds it at each lowered limit it must account for).
+  void build(const ProfileState& x, double a, double j) {
     const RampPhases ph = ramp_phases(x, 0, a, j);
     ProfileState y{0, x.v, x.a, 0};
     v_up = x.v;
@@ -468,7 +470,7 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
     // Braking too hard already: it would reverse (by more than check() lets pass; a position-mode
     // stop ends exactly on v = a²/2J, up to rounding).
     if (x.a < 0 && x.v < x.a * x.a / (2 * j) - kAbs) return -1.0;
-    r = BrakeRamp(x, a, j);  // |x.a| above a: first brought down to it at j
+    r.build(x, a, j);  // |x.a| above a: first brought down to it at j
     return r.d_stop;
   };
   double d = distance();
