@@ -499,6 +499,15 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   const GuardScratch& g = g_;
   constexpr std::size_t G = GuardScratch::kGroup;
   const bool groups = g.groups;
+  // The index's arrays never move (sized once; indexing only writes their elements): read through
+  // pointers taken once, not through the vectors at every block.
+  const double* const acc_k = g.acc.data();
+  const double* const jerk_k = g.jerk.data();
+  const double* const u2_k = g.u2.data();
+  const double* const gacc = g.group_acc.data();
+  const double* const gjerk = g.group_min.data();
+  const double* const gu2 = g.group_u2.data();
+  const double* const st = g.start.data();  // block k's start from now: st[k] − s_front_, once indexed
   std::size_t ks = c.k + 1, ke = c.k + 1;
   bool dirty = false;
   double reach_d = reach(d), scan_x = scan(a, j);
@@ -513,21 +522,21 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   for (;; ++ks) {
     // Enter the blocks ke < ks (indexed: the scan has read them) that the ramp reaches.
     while (ke < ks) {
-      if (groups && ke % G == 0 && ke + G <= ks && g.group_acc[ke / G] >= a) {
-        const double at = start(ke + G - 1) - p;
+      if (groups && ke % G == 0 && ke + G <= ks && gacc[ke / G] >= a) {
+        const double at = (st[ke + G - 1] - s_front_) - p;
         if (!(at <= reach_d) && dirty && !refresh()) return Cert::Unknown;
         if (at <= reach_d) {
           ke += G;
           continue;
         }
       }
-      const double at = start(ke) - p;
+      const double at = (st[ke] - s_front_) - p;
       if (!(at <= reach_d)) {
         if (!dirty) break;
         if (!refresh()) return Cert::Unknown;
         if (!(at <= reach_d)) break;
       }
-      const double ak = g.acc[ke];
+      const double ak = acc_k[ke];
       if (ak < a) {
         if (gate && *gate == 0 && ak < 0.5 * a) *gate = ke;  // the first far lower one: certify_gated's
         a = ak;
@@ -539,29 +548,29 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
     if (groups && ks % G == 0 && ks + G <= n_) {
       if (ks + G > g.built) index_through(ks + G - 1);
       const std::size_t q = ks / G;
-      if (g.group_acc[q] >= a && g.group_min[q] >= j && g.group_u2[q] > 0) {
-        const double at = start(ks + G - 1) - p;
+      if (gacc[q] >= a && gjerk[q] >= j && gu2[q] > 0) {
+        const double at = (st[ks + G - 1] - s_front_) - p;
         if (!(at <= reach_d + scan_x) && dirty && !refresh()) return Cert::Unknown;
         if (at <= reach_d + scan_x) {
-          for (std::size_t i = ks; uniform && i < ks + G; ++i) uniform = g.acc[i] == a && g.jerk[i] == j;
+          for (std::size_t i = ks; uniform && i < ks + G; ++i) uniform = acc_k[i] == a && jerk_k[i] == j;
           ks += G - 1;
           continue;
         }
       }
     }
     if (ks >= g.built) index_through(ks);  // its start, and its limits when it is inside the window
-    const double ss = start(ks) - p;
+    const double ss = (st[ks] - s_front_) - p;
     if (!(ss <= reach_d + scan_x)) {
       if (!dirty) break;
       if (!refresh()) return Cert::Unknown;
       if (!(ss <= reach_d + scan_x)) break;
     }
-    if (ks >= n_ || g.u2[ks] <= 0) {
+    if (ks >= n_ || u2_k[ks] <= 0) {
       stop_at = ss;
       break;
     }
-    const double jk = g.jerk[ks];
-    if (g.acc[ks] != a || jk != j) uniform = false;
+    const double jk = jerk_k[ks];
+    if (acc_k[ks] != a || jk != j) uniform = false;
     if (jk < j) {
       j = jk;
       dirty = scan_stale = true;
@@ -569,15 +578,15 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   }
   // The blocks scanned last that the ramp reaches.
   while (ke < ks) {
-    const double at = start(ke) - p;
+    const double at = (st[ke] - s_front_) - p;
     if (!(at <= reach_d)) {
       if (!dirty) break;
       if (!refresh()) return Cert::Unknown;
       if (!(at <= reach_d)) break;
     }
-    if (g.acc[ke] < a) {
-      if (gate && *gate == 0 && g.acc[ke] < 0.5 * a) *gate = ke;
-      a = g.acc[ke];
+    if (acc_k[ke] < a) {
+      if (gate && *gate == 0 && acc_k[ke] < 0.5 * a) *gate = ke;
+      a = acc_k[ke];
       dirty = true;
     }
     ++ke;
