@@ -268,7 +268,8 @@ double JerkGuard::jerk_min(std::size_t from, double p, double d, double j) const
   const GuardScratch& g = g_;
   // Indexed: blocks 0 … built − 1 and starts 0 … built (the loop above stops once the next start
   // is d beyond p, or at n). Block k is taken while k < n, start − p < d, and it is no stop.
-  std::size_t lo = from, hi = std::max(from, g.built);  // the first k in [from, hi) failing, else hi
+  std::size_t lo = from, hi = std::max(from, std::min(g.built, n_));  // the first k in [from, hi) failing, else hi
+  // (capped at n: an index built for a longer window must not reach past this one)
   while (lo < hi) {
     const std::size_t mid = lo + (hi - lo) / 2;
     if (start(mid) - p < d) lo = mid + 1; else hi = mid;
