@@ -167,9 +167,6 @@ double PolyCurve::speed(double u) const {
 
 namespace {
 
-// |C'(u)| for the integrals, the inner loop of s → u. For Bézier curves it converts the control
-// points once into monomial coefficients of the axes that actually move (usually two or three of
-// nine) and then costs a Horner pass per axis. rt-safe: fixed arrays on the stack.
 // Bernstein → monomial by forward differences: a_j = C(n, j)·Δʲb_0.
 void to_monomial(std::size_t n, std::array<double, kMaxBezierDegree + 1> b, std::array<double, kMaxBezierDegree + 1>& a) {
   static_assert(kMaxBezierDegree == 5, "kBinom lists the rows up to the highest degree");
@@ -210,6 +207,10 @@ void fill_speed2(PolyCurve& c) {
   c.has_speed2 = true;
 }
 
+// |C'(u)| for the integrals, the inner loop of s → u. A polynomial Bézier reads the curve's stored
+// |C'|² (one Horner pass and a square root); a rational one converts the homogeneous control points
+// of the axes that move (usually two or three of nine) and the weights to monomials at construction
+// and then costs a Horner pass per axis. rt-safe: fixed arrays on the stack.
 class SpeedEval {
  public:
   explicit SpeedEval(const PolyCurve& c) : c_(c) {
