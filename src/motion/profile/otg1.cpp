@@ -112,8 +112,9 @@ OtgResult Otg1::update(double target_mm, const OtgLimits& limits) {
   std::sort(vs.begin(), vs.begin() + n);  // ≤ 15 doubles, in place
 
   std::array<double, kGrid + 7> f{};
+  std::array<PeakTrial, kGrid + 7> trial{};
   for (int i = 0; i < n; ++i) {
-    const PeakTrial tr = otg_peak_trial(b, vs[i], lim);
+    const PeakTrial tr = trial[i] = otg_peak_trial(b, vs[i], lim);
     f[i] = tr.length_mm - dp;
     if (f[i] == 0) consider(vs[i], tr.length_mm, tr.duration_s, false);
   }
@@ -125,8 +126,9 @@ OtgResult Otg1::update(double target_mm, const OtgLimits& limits) {
   for (int i = 0; i + 1 < n; ++i) {
     if (f[i] == 0 || f[i + 1] == 0 || (f[i] < 0) == (f[i + 1] < 0)) continue;
     double lo = vs[i], hi = vs[i + 1], flo = f[i], fhi = f[i + 1];
-    double best_v = std::abs(flo) <= std::abs(fhi) ? lo : hi;
-    PeakTrial best_t = otg_peak_trial(b, best_v, lim);
+    const bool low_end = std::abs(flo) <= std::abs(fhi);  // the bracket's end nearer the root
+    double best_v = low_end ? lo : hi;
+    PeakTrial best_t = trial[low_end ? i : i + 1];
     double best_f = std::abs(best_t.length_mm - dp);
     int side = 0;  // the end kept in the last step (Illinois: halve its value when kept twice)
     double width = hi - lo;  // at the last check (every third step)
