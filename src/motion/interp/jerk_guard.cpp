@@ -523,10 +523,17 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   for (;; ++ks) {
     // Enter the blocks ke < ks (indexed: the scan has read them) that the ramp reaches.
     while (ke < ks) {
-      if (groups && ke % G == 0 && ke + G <= ks && gacc[ke / G] >= a) {
+      // A whole group within reach is entered at once, taking its least acceleration, unless a
+      // gate may lie in it (a block below half the running least: found one by one).
+      if (groups && ke % G == 0 && ke + G <= ks &&
+          (gacc[ke / G] >= 0.5 * a || gacc[ke / G] >= a || !gate || *gate != 0)) {
         const double at = (st[ke + G - 1] - s_front_) - p;
         if (!(at <= reach_d) && dirty && !refresh()) return Cert::Unknown;
         if (at <= reach_d) {
+          if (gacc[ke / G] < a) {
+            a = gacc[ke / G];
+            dirty = scan_stale = true;
+          }
           ke += G;
           continue;
         }
@@ -549,11 +556,19 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
     if (groups && ks % G == 0 && ks + G <= n_) {
       if (ks + G > g.built) index_through(ks + G - 1);
       const std::size_t q = ks / G;
-      if (gacc[q] >= a && gjerk[q] >= j && gu2[q] > 0) {
+      // A lower jerk in it only widens π's scan (the group stays inside it); a lower acceleration
+      // would be entered on the way and could narrow it: one by one then.
+      if (gacc[q] >= a && gu2[q] > 0) {
         const double at = (st[ks + G - 1] - s_front_) - p;
         if (!(at <= reach_d + scan_x) && dirty && !refresh()) return Cert::Unknown;
         if (at <= reach_d + scan_x) {
-          for (std::size_t i = ks; uniform && i < ks + G; ++i) uniform = acc_k[i] == a && jerk_k[i] == j;
+          if (gjerk[q] < j) {
+            uniform = false;
+            j = gjerk[q];
+            dirty = scan_stale = true;
+          } else {
+            for (std::size_t i = ks; uniform && i < ks + G; ++i) uniform = acc_k[i] == a && jerk_k[i] == j;
+          }
           ks += G - 1;
           continue;
         }
