@@ -39,6 +39,7 @@ class Ring {
     head_ = slot(1);
     --size_;
     ++changes_;
+    ++pops_;
   }
   T& front() { return buf_[head_]; }
   const T& front() const { return buf_[head_]; }
@@ -54,6 +55,9 @@ class Ring {
   // Counts pops and clears: while it stays the same, at(i) is the same element for every i < size()
   // (pushes only append). Lets a reader keep what it derived from the elements between calls.
   std::uint64_t changes() const { return changes_; }
+  // Counts pops alone: where changes() moved by as much, the elements were only popped (no clear),
+  // and at(i) now is at(i + that many) before.
+  std::uint64_t pops() const { return pops_; }
 
  private:
   std::size_t slot(std::size_t i) const {
@@ -66,6 +70,7 @@ class Ring {
   std::size_t head_ = 0;
   std::size_t size_ = 0;
   std::uint64_t changes_ = 0;
+  std::uint64_t pops_ = 0;
 };
 
 }  // namespace softmc::core

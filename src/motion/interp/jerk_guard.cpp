@@ -197,20 +197,28 @@ JerkGuard::JerkGuard(const core::Ring<Block>& ring, std::size_t n, double s_fron
                      double scale, bool halt, double feed_override, GuardScratch& scratch)
     : ring_(ring), n_(n), s_front_(s_front), v_now_(v_now), dt_(dt), scale_(scale), halt_(halt),
       override_(feed_override), g_(scratch) {
-  assert(n >= 1 && n <= ring.size() && g_.start.size() >= n + 1);
+  assert(n >= 1 && n <= ring.size() && n <= g_.cap);
   GuardScratch& g = g_;
-  // The index of the last cycle holds while the same blocks are at the same places (no pop, no
-  // clear) and limits read the same; blocks committed since can have lowered the old back's jerk.
-  if (ring.changes() != g.changes || ring.size() < g.size || scale != g.scale || halt != g.halt ||
+  // The index of the last cycle holds while the blocks were only popped (the front moves on in it)
+  // and limits read the same; blocks committed since can have lowered the old back's jerk.
+  const std::uint64_t popped = ring.pops() - g.pops;
+  const std::size_t o = g.origin + static_cast<std::size_t>(popped);
+  if (ring.changes() - g.changes != popped || popped > g.size || o > g.built || o > g.cap ||
+      g.start[o] > GuardScratch::kRebase_mm || scale != g.scale || halt != g.halt ||
       feed_override != g.feed_override || dt != g.dt) {
-    g.built = 0;
-  } else if (ring.size() != g.size) {
-    g.built = std::min(g.built, g.size > 0 ? g.size - 1 : 0);
+    g.origin = g.built = g.nstops = 0;  // begin again from the front
+    g.start[0] = 0;
+  } else {
+    g.origin = o;
+    if (ring.size() + static_cast<std::size_t>(popped) != g.size)  // pushed since: the old back again
+      g.built = std::max(o, std::min(g.built, o + (g.size - static_cast<std::size_t>(popped)) - 1));
   }
   while (g.nstops > 0 && g.stops[g.nstops - 1] >= g.built) --g.nstops;
-  g.start[0] = 0;
   g.changes = ring.changes();
+  g.pops = ring.pops();
   g.size = ring.size();
+  o_ = g.origin;
+  base_ = s_front + g.start[o_];
   g.scale = scale;
   g.halt = halt;
   g.feed_override = feed_override;
@@ -226,8 +234,8 @@ double JerkGuard::jerk_min_walk(std::size_t from, double p, double d, double j) 
 // rt-safe. Indexes the next block: its limits, the start of the one after, its group's minima.
 void JerkGuard::index_block() const {
   GuardScratch& g = g_;
-  const std::size_t k = g.built;
-  const Block& b = ring_.at(k);
+  const std::size_t k = g.built;  // a position in the index: ring block k − o_
+  const Block& b = ring_.at(k - o_);
   // A block without a jerk limit (Trapezoid profile, axes with j = 0) reaches its acceleration in one cycle.
   const double jk = (std::isfinite(b.j_mm_s3) ? b.j_mm_s3 : b.a_mm_s2 / dt_) * scale_;
   const double sk = soft_raw(b);
@@ -246,17 +254,18 @@ void JerkGuard::index_block() const {
   g.group_acc[q] = first ? g.acc[k] : std::min(g.group_acc[q], g.acc[k]);
   g.start[k + 1] = g.start[k] + b.length;
   ++g.built;
+  ++g.blocks_indexed;
 }
 
 // rt-safe
 void JerkGuard::index_through(std::size_t k) const {
   const std::size_t last = std::min(k, n_ - 1);
-  while (g_.built <= last) index_block();
+  while (built() <= last) index_block();
 }
 
 // rt-safe. Extends the index while the next block to index starts within d of p.
 void JerkGuard::index_until(double p, double d) const {
-  while (g_.built < n_ && start(g_.built) - p < d) index_block();
+  while (built() < n_ && start(built()) - p < d) index_block();
 }
 
 // rt-safe. The walk's answer from the group minima: the blocks from `from` up to the first that
@@ -268,11 +277,13 @@ double JerkGuard::jerk_min(std::size_t from, double p, double d, double j) const
   const GuardScratch& g = g_;
   // Indexed: blocks 0 … built − 1 and starts 0 … built (the loop above stops once the next start
   // is d beyond p, or at n). Block k is taken while k < n, start − p < d, and it is no stop.
-  std::size_t lo = from, hi = std::max(from, std::min(g.built, n_));  // the first k in [from, hi) failing, else hi
+  // Positions in the index from here on (block k at o_ + k).
+  from += o_;
+  std::size_t lo = from, hi = std::max(from, o_ + std::min(built(), n_));  // the first in [from, hi) failing, else hi
   // (capped at n: an index built for a longer window must not reach past this one)
   while (lo < hi) {
     const std::size_t mid = lo + (hi - lo) / 2;
-    if (start(mid) - p < d) lo = mid + 1; else hi = mid;
+    if (g.start[mid] - base_ - p < d) lo = mid + 1; else hi = mid;
   }
   std::size_t end = lo;  // blocks [from, end) start within d, all indexed
   // The first exact stop at or after `from` ends the range too.
@@ -293,12 +304,12 @@ double JerkGuard::jerk_min(std::size_t from, double p, double d, double j) const
   return j;
 }
 
-double JerkGuard::acc(std::size_t k) const { return need(k).acc[k]; }
+double JerkGuard::acc(std::size_t k) const { return need(k).acc[o_ + k]; }
 
-double JerkGuard::jerk(std::size_t k) const { return need(k).jerk[k]; }
+double JerkGuard::jerk(std::size_t k) const { return need(k).jerk[o_ + k]; }
 
 double JerkGuard::soft(std::size_t k) const {
-  const double s = need(k).soft[k];
+  const double s = need(k).soft[o_ + k];
   return k == 0 ? std::max(s, v_now_) : s;  // already faster (the override dropped): only the ramp down is asked
 }
 
@@ -494,21 +505,23 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   // A lowered limit only lengthens the ramp, so its distance is brought up to date (`refresh`) only
   // where the walk would otherwise stop: one ramp per extension of the walk, not one per block.
   // reach_d = reach(d) and scan_x = scan() as of the present limits. A whole group of 16 (g.groups)
-  // is taken at once where none of its blocks would lower a limit and its last one is within
-  // reach: one by one, the walk would go through all 16 changing nothing.
+  // is taken at once where its last block is within reach and one by one the walk would end the
+  // same: its least limits are taken, as block after block would take them.
   // (Plain locals, no closures over them: this walk is most of a smoothed path's cycle.)
   const GuardScratch& g = g_;
   constexpr std::size_t G = GuardScratch::kGroup;
   const bool groups = g.groups;
   // The index's arrays never move (sized once; indexing only writes their elements): read through
-  // pointers taken once, not through the vectors at every block.
-  const double* const acc_k = g.acc.data();
-  const double* const jerk_k = g.jerk.data();
-  const double* const u2_k = g.u2.data();
+  // pointers taken once, not through the vectors at every block. Block k is at position o_ + k;
+  // groups are aligned on positions: block k's group is (o_ + k) / G.
+  const double* const acc_k = g.acc.data() + o_;
+  const double* const jerk_k = g.jerk.data() + o_;
+  const double* const u2_k = g.u2.data() + o_;
   const double* const gacc = g.group_acc.data();
   const double* const gjerk = g.group_min.data();
   const double* const gu2 = g.group_u2.data();
-  const double* const st = g.start.data();  // block k's start from now: st[k] − s_front_, once indexed
+  const double* const st = g.start.data() + o_;  // block k's start from now: st[k] − base_, once indexed
+  const std::size_t o = o_;
   std::size_t ks = c.k + 1, ke = c.k + 1;
   bool dirty = false;
   double reach_d = reach(d), scan_x = scan(a, j);
@@ -525,20 +538,20 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
     while (ke < ks) {
       // A whole group within reach is entered at once, taking its least acceleration, unless a
       // gate may lie in it (a block below half the running least: found one by one).
-      if (groups && ke % G == 0 && ke + G <= ks &&
-          (gacc[ke / G] >= 0.5 * a || gacc[ke / G] >= a || !gate || *gate != 0)) {
-        const double at = (st[ke + G - 1] - s_front_) - p;
+      if (groups && (o + ke) % G == 0 && ke + G <= ks &&
+          (gacc[(o + ke) / G] >= 0.5 * a || !gate || *gate != 0)) {
+        const double at = (st[ke + G - 1] - base_) - p;
         if (!(at <= reach_d) && dirty && !refresh()) return Cert::Unknown;
         if (at <= reach_d) {
-          if (gacc[ke / G] < a) {
-            a = gacc[ke / G];
+          if (gacc[(o + ke) / G] < a) {
+            a = gacc[(o + ke) / G];
             dirty = scan_stale = true;
           }
           ke += G;
           continue;
         }
       }
-      const double at = (st[ke] - s_front_) - p;
+      const double at = (st[ke] - base_) - p;
       if (!(at <= reach_d)) {
         if (!dirty) break;
         if (!refresh()) return Cert::Unknown;
@@ -553,13 +566,13 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
       ++ke;
     }
     if (scan_stale) scan_x = scan(a, j), scan_stale = false;
-    if (groups && ks % G == 0 && ks + G <= n_) {
-      if (ks + G > g.built) index_through(ks + G - 1);
-      const std::size_t q = ks / G;
+    if (groups && (o + ks) % G == 0 && ks + G <= n_) {
+      if (ks + G > built()) index_through(ks + G - 1);
+      const std::size_t q = (o + ks) / G;
       // A lower jerk in it only widens π's scan (the group stays inside it); a lower acceleration
       // would be entered on the way and could narrow it: one by one then.
       if (gacc[q] >= a && gu2[q] > 0) {
-        const double at = (st[ks + G - 1] - s_front_) - p;
+        const double at = (st[ks + G - 1] - base_) - p;
         if (!(at <= reach_d + scan_x) && dirty && !refresh()) return Cert::Unknown;
         if (at <= reach_d + scan_x) {
           if (gjerk[q] < j) {
@@ -574,8 +587,8 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
         }
       }
     }
-    if (ks >= g.built) index_through(ks);  // its start, and its limits when it is inside the window
-    const double ss = (st[ks] - s_front_) - p;
+    if (ks >= built()) index_through(ks);  // its start, and its limits when it is inside the window
+    const double ss = (st[ks] - base_) - p;
     if (!(ss <= reach_d + scan_x)) {
       if (!dirty) break;
       if (!refresh()) return Cert::Unknown;
@@ -596,7 +609,7 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   // again because a closure shared by both places keeps a, j, d and the cursors in memory (tried:
   // +16 % instructions per smoothed cycle).
   while (ke < ks) {
-    const double at = (st[ke] - s_front_) - p;
+    const double at = (st[ke] - base_) - p;
     if (!(at <= reach_d)) {
       if (!dirty) break;
       if (!refresh()) return Cert::Unknown;
@@ -627,9 +640,9 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
       if (r.d_stop > start + kAbs) return broken(true, start, 0, true);
       break;
     }
-    if (g.groups && k > c.k && k % G == 0 && k + G <= n_ && start >= kAbs && start > phase0_end) {
+    if (g.groups && k > c.k && (o + k) % G == 0 && k + G <= n_ && start >= kAbs && start > phase0_end) {
       index_through(k + G - 1);
-      const std::size_t q = k / G;
+      const std::size_t q = (o + k) / G;
       if (g.group_u2[q] > v_up2 && g.group_cap[q] >= r.v_up && this->start(k + G - 1) - p < stop_at) {
         k += G;
         ++g_.groups_skipped;
@@ -640,17 +653,17 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
       // |x.a| above A comes down at J first: a block entered meanwhile must allow the |a| from
       // where it is entered on (A itself it allows: A is the least of the blocks entered).
       // (Only while phase 0 lasts: after it |a| ≤ A.)
-      if (start <= phase0_end && g.acc[k] < r.a_from[0] && g.acc[k] < r.a_after(start * (1 - kRel) - kAbs))
+      if (start <= phase0_end && acc_k[k] < r.a_from[0] && acc_k[k] < r.a_after(start * (1 - kRel) - kAbs))
         return Cert::Unknown;
       // (v_up² clearly below the junction's u²: reach_speed(u) is 0, no square root needed.)
-      if (!(v_up2 < g.u2[k]) || !clear(0, start)) {
-        const double u = std::sqrt(g.u2[k]);
+      if (!(v_up2 < u2_k[k]) || !clear(0, start)) {
+        const double u = std::sqrt(u2_k[k]);
         if (!clear(r.reach_speed(u), start)) return broken(true, start, u, false);
       }
     }
     const double here = std::max(start, 0.0);
     const auto over_cap = [&](double cap) { return k == c.k ? r.v_up > cap : !clear(r.reach_speed(cap), start); };
-    if (over_cap(g.hard[k])) return broken(true, here, g.hard[k], false);
+    if (over_cap(hard(k))) return broken(true, here, hard(k), false);
     if (over_cap(soft(k))) return broken(false, here, soft(k), false);  // the front's relaxed to v_now
     ++k;
   }
@@ -708,7 +721,7 @@ JerkGuard::Cert JerkGuard::certify_gated(const ProfileState& x0, double p, const
   // The front block's soft cap as it is, not relaxed to the present speed: the first stage may
   // cruise at w, and only a ramp down is allowed above it (after an override drop the plain
   // certificate's ramp to rest decides).
-  double cap = std::min(hard(c.k), need(c.k).soft[c.k]);
+  double cap = std::min(hard(c.k), need(c.k).soft[o_ + c.k]);
   for (std::size_t i = c.k + 1; i < k; ++i) {
     if (u2(i) <= 0) return Cert::Unknown;  // a stop before the gate
     a1 = std::min(a1, acc(i));

@@ -75,33 +75,41 @@ struct GuardVerdict {
   bool failed() const { return !hard_ok || !soft_ok; }
 };
 
-// Index of the window for the guard, sized once (Interpolator construction): from the front, each
-// block's start (distance from the front block's start), its limits as the guard sees them (scaled
-// acceleration and jerk, hard cap, soft cap under the override, junction speed²), the minima of
-// each group of 16, and the exact stops; filled lazily as far as a check looks, and kept from cycle
-// to cycle while it holds (JerkGuard's constructor): no block popped or cleared since
-// (Ring::changes), the same scale, halt, override and dt; when blocks were committed since, the old
-// back is indexed again (the commit after it may lower its jerk: Planner::commit).
+// Index of the window for the guard, sized once (Interpolator construction): for each block, its
+// start (distance from an origin, the start of the block that was the front when the index was
+// begun), its limits as the guard sees them (scaled acceleration and jerk, hard cap, soft cap under
+// the override, junction speed²), the minima of each group of 16, and the exact stops; filled
+// lazily as far as a check looks, and kept from cycle to cycle while it holds (JerkGuard's
+// constructor): only pops since (Ring::pops: the front moves on in the index, `origin`, and nothing
+// is indexed again), the same scale, halt, override and dt; when blocks were committed since, the
+// old back is indexed again (the commit after it may lower its jerk: Planner::commit). It begins
+// again after a clear, a change of those, once the origin has moved `cap` blocks on (the arrays
+// hold 2·cap + 1), or once the front starts kRebase_mm from the origin (a start is read as the
+// difference of two: kept to the rounding of small numbers).
 // Every check reads the blocks through it: the same starts everywhere, compact arrays instead of
-// the 1.9 kB blocks. The certificate skips a whole group where it keeps every cap and junction;
-// brake() asks "the smallest jerk from block k while a block starts within d of p" in every
-// simulated cycle: a binary search and a few group minima. Group answers (groups = false: block by
-// block, the reference) never change a verdict.
+// the 1.9 kB blocks. The certificate takes a whole group at once where it can; brake() asks "the
+// smallest jerk from block k while a block starts within d of p" in every simulated cycle: a
+// binary search and a few group minima. Group answers (groups = false: block by block, the
+// reference) never change a verdict.
 struct GuardScratch {
   static constexpr std::size_t kGroup = 16;
+  static constexpr double kRebase_mm = 64;
   explicit GuardScratch(std::size_t blocks)
-      : start(blocks + 1), jerk(blocks + 1), acc(blocks + 1), hard(blocks + 1), soft(blocks + 1), u2(blocks + 1),
-        group_min(blocks / kGroup + 2), group_cap(blocks / kGroup + 2), group_u2(blocks / kGroup + 2),
-        group_acc(blocks / kGroup + 2), stops(blocks + 1) {}
+      : start(2 * blocks + 2), jerk(2 * blocks + 2), acc(2 * blocks + 2), hard(2 * blocks + 2), soft(2 * blocks + 2),
+        u2(2 * blocks + 2), group_min(2 * blocks / kGroup + 2), group_cap(2 * blocks / kGroup + 2),
+        group_u2(2 * blocks / kGroup + 2), group_acc(2 * blocks / kGroup + 2), stops(2 * blocks + 2), cap(blocks) {}
   std::vector<double> start, jerk, acc, hard, soft, u2;  // soft: before relaxing the front's to v_now
   std::vector<double> group_min, group_cap, group_u2;    // per group: least jerk, cap (hard or soft), u²
   std::vector<double> group_acc;                         // per group: least acceleration
-  std::vector<std::size_t> stops;
+  std::vector<std::size_t> stops;                        // positions in the index, rising
+  std::size_t cap;
   bool groups = true;
   std::uint64_t groups_skipped = 0;  // by the certificate, since construction
-  // What the index was built for, and how far.
-  std::size_t built = 0, nstops = 0, size = 0;
-  std::uint64_t changes = ~std::uint64_t{0};
+  std::uint64_t blocks_indexed = 0;  // since construction
+  // What the index was built for, and how far: positions [origin, built) are indexed, the front
+  // block at `origin`.
+  std::size_t origin = 0, built = 0, nstops = 0, size = 0;
+  std::uint64_t changes = ~std::uint64_t{0}, pops = 0;
   double scale = 0, feed_override = 0, dt = 0;
   bool halt = false;
 };
@@ -146,6 +154,8 @@ class JerkGuard {
   double acc(std::size_t k) const;
   double jerk(std::size_t k) const;
   double soft(std::size_t k) const;
+  // Block k's start (k ≤ n) from now, as every check reads it.
+  double start_of(std::size_t k) const { return start(k); }
 
  private:
   struct Cursor {
@@ -170,15 +180,16 @@ class JerkGuard {
   void index_block() const;                 // the next block
   // Block k's start from now (k ≤ n), and its limits (k < n), read from the index.
   double start(std::size_t k) const {
-    if (k > g_.built) index_through(k - 1);
-    return g_.start[k] - s_front_;
+    if (k > built()) index_through(k - 1);
+    return g_.start[o_ + k] - base_;
   }
-  double hard(std::size_t k) const { return need(k).hard[k]; }
-  double u2(std::size_t k) const { return need(k).u2[k]; }
+  double hard(std::size_t k) const { return need(k).hard[o_ + k]; }
+  double u2(std::size_t k) const { return need(k).u2[o_ + k]; }
   const GuardScratch& need(std::size_t k) const {
-    if (k >= g_.built) index_through(k);
+    if (k >= built()) index_through(k);
     return g_;
   }
+  std::size_t built() const { return g_.built - o_; }  // blocks indexed from the front
 
   const core::Ring<Block>& ring_;
   std::size_t n_;
@@ -186,6 +197,8 @@ class JerkGuard {
   bool halt_;
   double override_;
   GuardScratch& g_;
+  std::size_t o_ = 0;  // the front block's position in the index
+  double base_ = 0;    // distance from the index's origin to now: start(k) = g_.start[o_ + k] − base_
 };
 
 }  // namespace softmc::motion

@@ -28,6 +28,23 @@ TEST(Ring, FifoWrapsAroundAndReportsFull) {
   EXPECT_EQ(r.size(), 1u);
 }
 
+// changes() counts pops and clears, pops() pops alone: a reader that finds both moved by the same
+// amount knows the elements were only popped, and where each one it had seen is now.
+TEST(Ring, PopsAreCountedApartFromClears) {
+  Ring<int> r(4);
+  r.push(1);
+  r.push(2);
+  r.push(3);
+  const auto c0 = r.changes(), p0 = r.pops();
+  r.pop();
+  r.pop();
+  EXPECT_EQ(r.pops() - p0, 2u);
+  EXPECT_EQ(r.changes() - c0, 2u);
+  r.clear();
+  EXPECT_EQ(r.pops() - p0, 2u);
+  EXPECT_EQ(r.changes() - c0, 3u);
+}
+
 TEST(SpscQueue, TransfersInOrderAcrossThreads) {
   SpscQueue<int> q(16);
   constexpr int kN = 100000;

@@ -528,6 +528,80 @@ TEST(PlannerJerk, GuardIndexFollowsTheWindow) {
   expect_reads_blocks(1.0, 1.0, "after a clear and new pushes");
 }
 
+// The index is kept by position (GuardScratch::origin): a pop moves the front on in it and indexes
+// nothing again, and what the guard reads stays what the blocks say through thousands of pushes and
+// pops, across the index's new beginnings (its origin a window's length on, or the front 64 mm from
+// it) and with exact stops in the window. Before, every pop indexed the whole reach again.
+TEST(PlannerJerk, GuardIndexMovesOnWithThePops) {
+  auto lim = jerk_limits(100, 1000, 20000);
+  for (int i = 0; i < 3; ++i) lim.axis[i].min_mm = -1e6, lim.axis[i].max_mm = 1e6;
+  Planner planner(lim, 32);
+  auto& ring = planner.queue().ring();
+  GuardScratch scratch(ring.capacity());
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> len(0.2, 3), turn(-0.8, 0.8), unit(0, 1);
+  core::Vec at = xyz(0, 0);
+  double heading = 0;
+  std::uint32_t tag = 0;
+  std::uint64_t pushes = 0, pop_only_checks = 0, begins = 0;
+  for (int step = 0; step < 4000; ++step) {
+    const bool push = !planner.queue().full() && (ring.size() < 2 || unit(rng) < 0.5);
+    if (push) {
+      heading += turn(rng);
+      // One line in four is long: without a new beginning 64 mm on, the starts read as differences
+      // from the origin would lose the picometres the guard's comparisons keep.
+      const double l = unit(rng) < 0.25 ? 200 + 1800 * unit(rng) : len(rng);
+      const core::Vec to = xyz(at[0] + l * std::cos(heading), at[1] + l * std::sin(heading));
+      // One move in ten is an exact stop (G61): a stop in the index.
+      ASSERT_EQ(planner.push(line_req(at, to, 60 + 40 * unit(rng), tag++, unit(rng) < 0.1 ? 0.0 : 0.05)), PlanResult::Ok);
+      at = to;
+      ++pushes;
+    } else {
+      ring.pop();
+    }
+    if (ring.empty()) continue;
+    const std::uint64_t indexed = scratch.blocks_indexed;
+    const double s_front = 0.5 * ring.front().length;
+    const JerkGuard guard(ring, ring.size(), s_front, 0, lim.period_s, 1.0, false, 1.0, scratch);
+    if (!push && scratch.origin > 0) {  // popped, the index kept: the blocks it had are read as they were
+      const std::size_t had = scratch.built - scratch.origin;
+      for (std::size_t k = 0; k < had; ++k) guard.acc(k);
+      EXPECT_EQ(scratch.blocks_indexed, indexed) << "step " << step << ": a pop indexed blocks again";
+      ++pop_only_checks;
+    }
+    begins += scratch.origin == 0 ? 1 : 0;
+    double s = -s_front;
+    for (std::size_t k = 0; k < ring.size(); ++k) {
+      const Block& b = ring.at(k);
+      const double j = std::isfinite(b.j_mm_s3) ? b.j_mm_s3 : b.a_mm_s2 / lim.period_s;
+      ASSERT_EQ(guard.jerk(k), j) << "step " << step << ", block " << k;
+      ASSERT_EQ(guard.acc(k), b.a_mm_s2) << "step " << step << ", block " << k;
+      ASSERT_EQ(guard.soft(k), k == 0 ? std::max(0.0, std::min(soft_speed(b, 1.0), b.v_split_mm_s))
+                                      : std::min(soft_speed(b, 1.0), b.v_split_mm_s))
+          << "step " << step << ", block " << k;
+      // To the rounding of the start itself (and of the 64 mm the origin may lie behind the front).
+      ASSERT_NEAR(guard.start_of(k), s, 1e-14 * (GuardScratch::kRebase_mm + s_front + std::abs(s)))
+          << "step " << step << ", block " << k;
+      s += b.length;
+    }
+    double a_min = 0, j_min = 0;
+    guard.limits_until(1e9, a_min, j_min);  // the stops, through the index's stop list
+    double a_ref = ring.at(0).a_mm_s2, j_ref = guard.jerk(0);
+    for (std::size_t k = 1; k < ring.size() && ring.at(k).v2_junction > 0; ++k) {
+      a_ref = std::min(a_ref, ring.at(k).a_mm_s2);
+      j_ref = std::min(j_ref, guard.jerk(k));
+    }
+    ASSERT_EQ(a_min, a_ref) << "step " << step;
+    ASSERT_EQ(j_min, j_ref) << "step " << step;
+  }
+  EXPECT_GT(pop_only_checks, 500u);
+  EXPECT_GT(begins, 10u);  // the index began again many times (origin past the window, 64 mm on)
+  EXPECT_GT(pop_only_checks, begins);  // and most pops kept it
+  // Each block is indexed once, the old back once more after each push (its jerk may have been
+  // lowered), and a window's worth at each new beginning; before, a window's worth after every pop.
+  EXPECT_LE(scratch.blocks_indexed, 2 * pushes + begins * ring.capacity());
+}
+
 // Corner blends in jerk mode (docs/planner.md, "Corner blends"): a circular blend's curvature
 // steps from 0 to 1/R where it meets each line, and one cycle's share of jerk caps the corner
 // speed at √(kink_share·j·dt·R) (under 1 mm/s at a 90° corner with P = 0.05 and 10 000 mm/s³).
