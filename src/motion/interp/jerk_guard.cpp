@@ -569,15 +569,22 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
     if (groups && (o + ks) % G == 0 && ks + G <= n_) {
       if (ks + G > built()) index_through(ks + G - 1);
       const std::size_t q = (o + ks) / G;
-      // A lower jerk in it only widens π's scan (the group stays inside it); a lower acceleration
-      // would be entered on the way and could narrow it: one by one then.
-      if (gacc[q] >= a && gu2[q] > 0) {
+      // Scanned whole where its last block is within π's scan. A lower jerk in it only widens the
+      // scan (the group stays inside it); a lower acceleration is entered on the way and could
+      // narrow it, unless the whole group is within the ramp's reach: then the walk enters every
+      // block of it as well (the entry cursor is here, as it enters all it reaches), the gate
+      // aside (a block below half the running least: one by one, as the entry loop finds it).
+      if (gu2[q] > 0) {
         const double at = (st[ks + G - 1] - base_) - p;
-        if (!(at <= reach_d + scan_x) && dirty && !refresh()) return Cert::Unknown;
-        if (at <= reach_d + scan_x) {
-          if (gjerk[q] < j) {
+        const bool lower_a = gacc[q] < a;
+        if ((!(at <= reach_d + scan_x) || (lower_a && !(at <= reach_d))) && dirty && !refresh())
+          return Cert::Unknown;
+        if (at <= reach_d + scan_x &&
+            (!lower_a || (at <= reach_d && ke == ks && (gacc[q] >= 0.5 * a || !gate || *gate != 0)))) {
+          if (lower_a || gjerk[q] < j) {
             uniform = false;
-            j = gjerk[q];
+            if (lower_a) a = gacc[q], ke = ks + G;
+            j = std::min(j, gjerk[q]);
             dirty = scan_stale = true;
           } else {
             for (std::size_t i = ks; uniform && i < ks + G; ++i) uniform = acc_k[i] == a && jerk_k[i] == j;
