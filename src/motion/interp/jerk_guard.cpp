@@ -195,7 +195,7 @@ PathStep jerk_cycle(const ProfileState& x, double j, double dt) {
 
 JerkGuard::JerkGuard(const core::Ring<Block>& ring, std::size_t n, double s_front, double v_now, double dt,
                      double scale, bool halt, double feed_override, GuardScratch& scratch)
-    : ring_(ring), n_(n), s_front_(s_front), v_now_(v_now), dt_(dt), scale_(scale), halt_(halt),
+    : ring_(ring), n_(n), v_now_(v_now), dt_(dt), scale_(scale), halt_(halt),
       override_(feed_override), g_(scratch) {
   assert(n >= 1 && n <= ring.size() && n <= g_.cap);
   GuardScratch& g = g_;
@@ -504,7 +504,7 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   // limit lengthens the ramp, and both cursors go on from where they are.
   // A lowered limit only lengthens the ramp, so its distance is brought up to date (`refresh`) only
   // where the walk would otherwise stop: one ramp per extension of the walk, not one per block.
-  // reach_d = reach(d) and scan_x = scan() as of the present limits. A whole group of 16 (g.groups)
+  // reach_d = reach(d) and scan_x = scan() as of the present limits. A whole group of 8 (g.groups)
   // is taken at once where its last block is within reach and one by one the walk would end the
   // same: its least limits are taken, as block after block would take them.
   // (Plain locals, no closures over them: this walk is most of a smoothed path's cycle.)
@@ -636,7 +636,7 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
     return uniform ? Cert::Fails : Cert::Unknown;
   };
   // Every block the ramp enters (all indexed: the scan went beyond them), one by one, or a group
-  // of 16 at once where all its caps and junction speeds are at least the ramp's peak v_up, none
+  // of 8 at once where all its caps and junction speeds are at least the ramp's peak v_up, none
   // of them a stop, beyond where |a| is brought down (phase 0): each block's test passes there.
   const double v_up2 = r.v_up * r.v_up * (1 + 1e-12);
   const double phase0_end = r.dur[0] > 0 ? reach(r.at[1].s) : -kInf;

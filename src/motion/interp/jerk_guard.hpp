@@ -78,7 +78,7 @@ struct GuardVerdict {
 // Index of the window for the guard, sized once (Interpolator construction): for each block, its
 // start (distance from an origin, the start of the block that was the front when the index was
 // begun), its limits as the guard sees them (scaled acceleration and jerk, hard cap, soft cap under
-// the override, junction speed²), the minima of each group of 16, and the exact stops; filled
+// the override, junction speed²), the minima of each group of 8, and the exact stops; filled
 // lazily as far as a check looks, and kept from cycle to cycle while it holds (JerkGuard's
 // constructor): only pops since (Ring::pops: the front moves on in the index, `origin`, and nothing
 // is indexed again), the same scale, halt, override and dt; when blocks were committed since, the
@@ -92,7 +92,7 @@ struct GuardVerdict {
 // binary search and a few group minima. Group answers (groups = false: block by block, the
 // reference) never change a verdict.
 struct GuardScratch {
-  static constexpr std::size_t kGroup = 16;
+  static constexpr std::size_t kGroup = 8;
   static constexpr double kRebase_mm = 64;
   explicit GuardScratch(std::size_t blocks)
       : start(2 * blocks + 2), jerk(2 * blocks + 2), acc(2 * blocks + 2), hard(2 * blocks + 2), soft(2 * blocks + 2),
@@ -193,7 +193,7 @@ class JerkGuard {
 
   const core::Ring<Block>& ring_;
   std::size_t n_;
-  double s_front_, v_now_, dt_, scale_;
+  double v_now_, dt_, scale_;
   bool halt_;
   double override_;
   GuardScratch& g_;
