@@ -35,18 +35,23 @@ constexpr double kH = 1.0 / kArcTableIntervals;
 //   level n-2: Q0 Q1 Q2   →  H'' = n(n-1)(Q2 - 2Q1 + Q0)
 //   level n-1: R0 R1      →  H'  = n(R1 - R0),  H = (1-u)R0 + uR1
 // then the quotient rule for C = H / W.
-CurveDerivs bezier_derivs(const PolyCurve::BezierData& b, std::size_t n, double u) {
+// ax[0 … m): the axes the curve moves (PolyCurve::moving); m = 0 before finalize found them: all.
+CurveDerivs bezier_derivs(const PolyCurve::BezierData& b, std::size_t n, double u, const std::size_t* ax,
+                          std::size_t m) {
   if (n == 3 && b.w[0] == 1 && b.w[1] == 1 && b.w[2] == 1 && b.w[3] == 1) {
     // A polynomial cubic (splines, G5, smoothed CAM runs): the Bernstein forms of C, C', C'' directly,
     // without copying the control arrays — the most frequent curve, evaluated thousands of times at
-    // construction and once per cycle.
+    // construction and once per cycle. An axis it does not move stays exactly where it is.
     const Vec& p0 = b.hctrl[0];
     const Vec& p1 = b.hctrl[1];
     const Vec& p2 = b.hctrl[2];
     const Vec& p3 = b.hctrl[3];
     const double v = 1 - u;
     CurveDerivs d;
-    for (std::size_t a = 0; a < core::kMaxAxes; ++a) {
+    if (m == 0) m = core::kMaxAxes, ax = kEveryAxis.data();
+    else d.c = p0;
+    for (std::size_t j = 0; j < m; ++j) {
+      const std::size_t a = ax[j];
       const double d0 = p1[a] - p0[a], d1 = p2[a] - p1[a], d2 = p3[a] - p2[a];
       d.c[a] = v * v * v * p0[a] + 3 * v * u * (v * p1[a] + u * p2[a]) + u * u * u * p3[a];
       d.d1[a] = 3 * (v * v * d0 + 2 * v * u * d1 + u * u * d2);
@@ -136,7 +141,7 @@ void newton_eval(const PolyCurve::NewtonData& nd, std::size_t n, double x, doubl
 
 // rt-safe
 CurveDerivs PolyCurve::derivs(double u) const {
-  if (basis == PolyBasis::Bezier) return bezier_derivs(bez, degree, u);
+  if (basis == PolyBasis::Bezier) return bezier_derivs(bez, degree, u, moving.data(), n_moving);
   const double dx = newton.x_end - newton.x_begin;
   const double x = (1 - u) * newton.x_begin + u * newton.x_end;
   double p, dp, ddp;
@@ -370,6 +375,14 @@ Vec curvature_vector(const CurveDerivs& d) {
 }
 
 double PolyCurve::finalize(bool estimate) {
+  // The axes the curve moves, first: everything below evaluates the curve through them.
+  n_moving = 0;
+  for (std::size_t a = 0; a < core::kMaxAxes; ++a) {
+    bool moves = basis == PolyBasis::NewtonGraph && (a == newton.x_axis || a == newton.y_axis);
+    for (std::size_t i = 1; basis == PolyBasis::Bezier && i <= degree; ++i)
+      moves = moves || bez.hctrl[i][a] * bez.w[0] != bez.hctrl[0][a] * bez.w[i];
+    if (moves) moving[n_moving++] = a;
+  }
   fill_speed2(*this);
   s_at[0] = 0;
   double err = 0, d8 = 0;
@@ -415,16 +428,10 @@ double PolyCurve::finalize(bool estimate) {
   bool polynomial = basis == PolyBasis::Bezier;
   for (std::size_t i = 0; polynomial && i <= degree; ++i) polynomial = bez.w[i] == 1;
   const int kSamples = polynomial ? 256 : 1024;
-  // The axes the curve moves: the others have no derivative, so the samples work on these only
-  // (the same sums in the same order as over all nine: the others add zeros).
-  std::array<std::size_t, core::kMaxAxes> ax{};
-  std::size_t m = 0;
-  for (std::size_t a = 0; a < core::kMaxAxes; ++a) {
-    bool moves = basis == PolyBasis::NewtonGraph && (a == newton.x_axis || a == newton.y_axis);
-    for (std::size_t i = 1; basis == PolyBasis::Bezier && i <= degree; ++i)
-      moves = moves || bez.hctrl[i][a] * bez.w[0] != bez.hctrl[0][a] * bez.w[i];
-    if (moves) ax[m++] = a;
-  }
+  // The samples work on the axes that move only (the same sums in the same order as over all
+  // nine: the others add zeros).
+  const auto& ax = moving;
+  const std::size_t m = n_moving;
   Vec t, k, k_prev;
   double sp_prev = 0;
   // One sample (its derivatives d): tangent and curvature into t, k, and the secant |Δκ|/Δs from

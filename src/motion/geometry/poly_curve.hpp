@@ -77,6 +77,10 @@ struct PolyCurve {
   // The 8-point rule agrees with the 16-point one within 1e-14 of the length on every table
   // interval (finalize): s → u then integrates its partial interval with 8 points (half the work).
   bool gl8_ok = false;
+  // The axes the curve moves, ascending (finalize): the others have no derivative, and the
+  // tangent and curvature are summed over these only (the same sums: the others add zeros).
+  std::array<std::size_t, core::kMaxAxes> moving{};
+  std::size_t n_moving = 0;
 
   PolyCurve() {}
 

@@ -208,7 +208,7 @@ CurveFrame Segment::frame(double s) const {
   }
   const CurveDerivs d = poly.derivs(poly.param_at(s));
   if (s > 0 && s < length) f.point = d.c;
-  tangent_curvature(d, kEveryAxis.data(), kEveryAxis.size(), f.tangent, f.curvature);  // both in one pass
+  tangent_curvature(d, poly.moving.data(), poly.n_moving, f.tangent, f.curvature);  // both in one pass, moving axes
   return f;
 }
 

@@ -360,3 +360,25 @@ TEST(GeometryBezier, StoredSpeedPolynomialMatchesTheDerivative) {
     }
   }
 }
+
+// A cubic in XY at a height (and a 4th axis) it keeps: the axes it does not move stay exactly where
+// they are at every arc length (PolyCurve::moving), not within a rounding of the Bernstein sum,
+// and the tangent and curvature there are 0. Its moving axes are X and Y alone.
+TEST(GeometryBezier, AxesTheCurveDoesNotMoveStayExactlyPut) {
+  core::Vec p[4] = {xy(0, 0, 0.1), xy(3.3, 1.7, 0.1), xy(6.1, -2.9, 0.1), xy(9.7, 0.3, 0.1)};
+  for (auto& q : p) q[6] = 0.7;
+  const Segment s = make_cubic_bezier(p[0], p[1], p[2], p[3]);
+  ASSERT_EQ(s.poly.n_moving, 2u);
+  EXPECT_EQ(s.poly.moving[0], 0u);
+  EXPECT_EQ(s.poly.moving[1], 1u);
+  int off = 0;
+  for (int i = 0; i <= 1000; ++i) {
+    const double at = s.length * i / 1000;
+    const CurveFrame f = s.frame(at);
+    off += f.point[2] != 0.1 || f.point[6] != 0.7;
+    EXPECT_EQ(f.tangent[2], 0.0);
+    EXPECT_EQ(f.curvature[6], 0.0);
+    EXPECT_NEAR(std::hypot(f.tangent[0], f.tangent[1]), 1.0, 1e-12);
+  }
+  EXPECT_EQ(off, 0) << "samples off the height the curve keeps";
+}
