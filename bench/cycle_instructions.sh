@@ -40,7 +40,7 @@ def per_cycle(pattern):
 step = per_cycle("Interpolator::step(double)")
 print(f"{name:28s} {step:9.0f} instructions per cycle")
 for label, pattern in (("certificate", "JerkGuard::certify("), ("setpoint (Segment::frame)", "Segment::frame("),
-                       ("position-mode stop", "stop_step("), ("ramp to rest built", "BrakeRamp::build(")):
+                       ("position-mode stop", "StopPlan::step("), ("ramp to rest built", "BrakeRamp::build(")):
     print(f"  {label:26s} {per_cycle(pattern):9.0f}")
 ' "$cycles" "$filter"
   done

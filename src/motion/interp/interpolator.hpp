@@ -11,6 +11,7 @@
 
 #include <cstdint>
 
+#include "motion/interp/jerk_follower.hpp"
 #include "motion/interp/jerk_guard.hpp"
 #include "motion/interp/velocity_ramp.hpp"
 #include "motion/limits.hpp"
@@ -60,6 +61,9 @@ struct InterpolatorConfig {
   // Tests: from this jerk-mode cycle on every candidate is refused, so the fallback brake certified
   // last (plain or gated) runs to rest and its limits show on the trace (−1: never).
   long long guard_refuse_from_cycle = -1;
+  // The position-mode stop candidate's plan is sampled on while it is taken (StopPlan); false solves
+  // it every cycle (the reference the kept plan is tested against).
+  bool keep_stop_plan = true;
 };
 
 // True when any present axis has a jerk limit (blocks then carry a finite j_mm_s3: the jerk follower runs).
@@ -101,6 +105,8 @@ class Interpolator {
   std::uint64_t guard_verifies() const { return guard_verifies_; }  // candidates checked
   // Jerk mode: the fallback brake kept from the last accepted step (its cert_* fields).
   const GuardVerdict& fallback() const { return cert_; }
+  // Jerk mode: the position-mode stop candidate's plans, solved and sampled on (StopPlan).
+  const StopPlan& stop_plan() const { return stop_plan_; }
   std::uint64_t guard_groups_skipped() const { return scratch_.groups_skipped; }  // GuardScratch
   // At rest on the path because of a hold, an enable drop or a stop in progress.
   bool halted_at_rest() const { return sp_.moving && sp_.path_v == 0 && halt(); }
@@ -132,6 +138,7 @@ class Interpolator {
   // Jerk mode: the fallback brake from the present state, certified when the state was accepted:
   // its cert_* fields (the ramp to rest with cert_a, cert_j; gated: cert_a2 > 0), or (cert_a 0) π.
   GuardVerdict cert_;
+  StopPlan stop_plan_;  // the position-mode stop candidate, kept while it is taken cycle after cycle
   std::uint64_t jerk_cycles_ = 0, guard_simulations_ = 0, guard_verifies_ = 0;
   Inputs in_;
   double override_ = 1;

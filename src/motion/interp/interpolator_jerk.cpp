@@ -85,13 +85,17 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   ++guard_verifies_;
   guard_simulations_ += first.simulated ? 1 : 0;
   GuardVerdict taken = first;
+  ProfileState stop_x{};  // the position-mode stop's end state, when it was a candidate
+  bool asked_stop = false;
   if (first.failed()) {
     std::array<PathStep, 4> cand{};
     std::size_t m = 0;
     if (first.stop_binds && first.fail_at_mm > 0) {
       double a_s = 0, j_s = 0;
       guard.limits_until(first.fail_at_mm, a_s, j_s);
-      const ProfileState y = stop_step(now, first.fail_at_mm, std::max({v_, vt, 1e-6}), a_s, j_s, dt);
+      const ProfileState y = stop_plan_.step(now, first.fail_at_mm, std::max({v_, vt, 1e-6}), a_s, j_s, dt);
+      stop_x = y;
+      asked_stop = true;
       PathStep st;
       st.x = y;
       st.j_abs = j_s;
@@ -138,6 +142,9 @@ const Setpoint& Interpolator::step_jerk(double dt) {
     }
   }
   cert_ = taken;
+  // The stop plan is kept only while its steps are the ones taken.
+  stop_plan_.taken(config_.keep_stop_plan && asked_stop && step.x.s == stop_x.s && step.x.v == stop_x.v &&
+                   step.x.a == stop_x.a);
   ProfileState x = step.x;
   if (x.s < 0) x.s = 0;
   v_ = std::max(0.0, x.v);

@@ -29,11 +29,48 @@ ProfileState ramp_step(const ProfileState& x, double vt, double a_max, double j_
 
 // rt-safe
 ProfileState stop_step(const ProfileState& x, double target, double v_max, double a_max, double j_max, double dt) {
-  Otg1 otg;
-  otg.reset({0, x.v, x.a, 0});  // Otg1 first brings |a| within a_max at full jerk
-  OtgLimits lim{std::max(v_max, 1e-9), a_max, j_max};
-  if (otg.update(target, lim) == OtgResult::ErrorInvalidInput) return ramp_step(x, 0, a_max, j_max, dt);
-  return otg.at(dt);
+  StopPlan plan;
+  return plan.step(x, target, v_max, a_max, j_max, dt);
+}
+
+// rt-safe
+ProfileState StopPlan::step(const ProfileState& x, double target, double v_max, double a_max, double j_max,
+                            double dt) {
+  asked_ = true;
+  const OtgLimits lim{std::max(v_max, 1e-9), a_max, j_max};
+  if (kept_ && lim.v_max_mm_s == v_max_ && a_max == a_max_ && j_max == j_max_) {
+    const ProfileState here = otg_.at(t_);
+    // The same state (taken from this plan) and the same point, to the rounding of the distances.
+    if (here.v == x.v && here.a == x.a && std::abs(target - (target_ - here.s)) <= 1e-9 * std::max(1.0, target)) {
+      ProfileState y = otg_.at(t_ + dt);
+      y.s -= here.s;
+      t_next_ = t_ + dt;
+      ++reuses_;
+      return y;
+    }
+  }
+  kept_ = false;
+  otg_.reset({0, x.v, x.a, 0});  // Otg1 first brings |a| within a_max at full jerk
+  if (otg_.update(target, lim) == OtgResult::ErrorInvalidInput) return ramp_step(x, 0, a_max, j_max, dt);
+  ++solves_;
+  kept_ = true;
+  v_max_ = lim.v_max_mm_s;
+  a_max_ = a_max;
+  j_max_ = j_max;
+  target_ = target;
+  t_ = 0;
+  t_next_ = dt;
+  return otg_.at(dt);
+}
+
+// rt-safe
+void StopPlan::taken(bool yes) {
+  if (yes && asked_ && kept_) {
+    t_ = t_next_;
+  } else {
+    kept_ = false;
+  }
+  asked_ = false;
 }
 
 }  // namespace softmc::motion

@@ -752,6 +752,42 @@ TEST(PlannerJerk, PlaneCirclesUseTheWholeJerkBudget) {
   EXPECT_LE(res.max_path_v, cap * (1 + 1e-9));
 }
 
+// Approaching an exact stop, the follower's position-mode stop (Otg1's peak-speed search) is solved
+// once and sampled on while it is taken cycle after cycle (StopPlan: the rest of a time-optimal stop
+// is the time-optimal stop from where it has got to): the setpoints are those of solving it every
+// cycle to within the search's rounding, the stops land exactly on their points, and fewer than half
+// as many plans are solved.
+TEST(PlannerJerk, AStopPlanIsSampledOnWhileItIsTaken) {
+  const auto lim = jerk_limits(100, 1000, 10'000);
+  std::vector<PathRequest> reqs;
+  const core::Vec pts[] = {xyz(0, 0), xyz(20, 0), xyz(20, 15), xyz(3, 15), xyz(3, 2), xyz(11, 7)};
+  for (std::uint32_t k = 0; k + 1 < std::size(pts); ++k)
+    reqs.push_back(line_req(pts[k], pts[k + 1], 60 + 10 * k, k, 0.0));  // G61: a stop at every corner
+  std::uint64_t solves[2] = {0, 0}, reuses[2] = {0, 0};
+  std::vector<core::Vec> trace[2];
+  RunResult res[2];
+  for (int keep = 0; keep < 2; ++keep) {
+    InterpolatorConfig ic;
+    ic.keep_stop_plan = keep == 1;
+    const auto hook = [&](std::uint64_t, Interpolator& in) {
+      solves[keep] = in.stop_plan().solves();
+      reuses[keep] = in.stop_plan().reuses();
+    };
+    res[keep] = run_path(lim, reqs, 64, {}, hook, 20'000'000, ic, &trace[keep]);
+    expect_within(res[keep], 0.0, keep ? "plans kept" : "plans solved every cycle");
+    EXPECT_EQ(res[keep].end, reqs.back().geom.end);
+  }
+  EXPECT_EQ(reuses[0], 0u);
+  EXPECT_GT(solves[0], 100u);
+  // (Where the follower takes another candidate, the plan is dropped: about a third of the time here.)
+  EXPECT_GT(reuses[1], solves[1]) << solves[1] << " solved, " << reuses[1] << " sampled on";
+  EXPECT_LT(2 * solves[1], solves[0]) << solves[1] << " solved, against " << solves[0];
+  ASSERT_EQ(trace[0].size(), trace[1].size());
+  double worst = 0;
+  for (std::size_t k = 0; k < trace[0].size(); ++k) worst = std::max(worst, core::norm(trace[0][k] - trace[1][k]));
+  EXPECT_LT(worst, 1e-9);
+}
+
 // A chain of lines and arcs joined tangentially, with a corner now and then (the draws of
 // RandomTangentChainsOfLinesAndArcsKeepTheLimits).
 static std::vector<PathRequest> tangent_chain(std::mt19937_64& rng, std::uniform_real_distribution<double>& u, double tol) {
