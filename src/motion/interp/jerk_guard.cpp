@@ -500,13 +500,16 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   bool uniform = true;
   double stop_at = kInf;  // from p: the first exact stop or the window's end the walk meets
   // Two cursors over the blocks after c.k: `ks` scans (jerk, stops, uniformity) up to the ramp's
-  // reach plus π's scan; `ke` follows it over the blocks the ramp enters (acceleration). Each lower
-  // limit lengthens the ramp, and both cursors go on from where they are.
-  // A lowered limit only lengthens the ramp, so its distance is brought up to date (`refresh`) only
-  // where the walk would otherwise stop: one ramp per extension of the walk, not one per block.
-  // reach_d = reach(d) and scan_x = scan() as of the present limits. A whole group of 8 (g.groups)
-  // is taken at once where its last block is within reach and one by one the walk would end the
-  // same: its least limits are taken, as block after block would take them.
+  // reach plus π's scan; `ke` follows it over the blocks the ramp enters (acceleration). A lower
+  // limit lengthens the ramp (but for a lower J while |a| above A is brought down: it keeps the
+  // stronger deceleration longer), and both cursors go on from where they are.
+  // The ramp's distance is brought up to date (`refresh`) only where the walk would otherwise stop:
+  // one ramp per extension of the walk, not one per block. reach_d = reach(d) and scan_x = scan()
+  // as of the present limits. A whole group of 8 (g.groups) is taken at once only where block by
+  // block the walk would go through it without a refresh and end the same, its least limits taken
+  // as block after block would take them (a review's differential fuzzer found the cases where
+  // refreshing early, or entering on the way, changed the verdict:
+  // PlannerJerk.CertificateGroupsGiveTheBlockByBlockVerdict).
   // (Plain locals, no closures over them: this walk is most of a smoothed path's cycle.)
   const GuardScratch& g = g_;
   constexpr std::size_t G = GuardScratch::kGroup;
@@ -536,12 +539,12 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   for (;; ++ks) {
     // Enter the blocks ke < ks (indexed: the scan has read them) that the ramp reaches.
     while (ke < ks) {
-      // A whole group within reach is entered at once, taking its least acceleration, unless a
-      // gate may lie in it (a block below half the running least: found one by one).
+      // A whole group within reach as it stands (no refresh: one by one, the walk would enter it all
+      // without one) is entered at once, taking its least acceleration, unless a gate may lie in it
+      // (a block below half the running least: found one by one).
       if (groups && (o + ke) % G == 0 && ke + G <= ks &&
           (gacc[(o + ke) / G] >= 0.5 * a || !gate || *gate != 0)) {
         const double at = (st[ke + G - 1] - base_) - p;
-        if (!(at <= reach_d) && dirty && !refresh()) return Cert::Unknown;
         if (at <= reach_d) {
           if (gacc[(o + ke) / G] < a) {
             a = gacc[(o + ke) / G];
@@ -569,26 +572,28 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
     if (groups && (o + ks) % G == 0 && ks + G <= n_) {
       if (ks + G > built()) index_through(ks + G - 1);
       const std::size_t q = (o + ks) / G;
-      // Scanned whole where its last block is within π's scan. A lower jerk in it only widens the
-      // scan (the group stays inside it); a lower acceleration is entered on the way and could
-      // narrow it, unless the whole group is within the ramp's reach: then the walk enters every
-      // block of it as well (the entry cursor is here, as it enters all it reaches), the gate
-      // aside (a block below half the running least: one by one, as the entry loop finds it).
+      // Scanned whole only where one by one the walk would go through it without a refresh (the
+      // ramp's distance is not monotonic in J while |a| above A is being brought down, and a lower
+      // A narrows π's scan, so a refresh or an entry on the way could end the walk inside it):
+      //  - within: the whole group within the ramp's reach as it stands, the entry cursor here:
+      //    the walk enters every block of it too (its least limits), the gate aside (a block below
+      //    half the running least: one by one, as the entry loop finds it);
+      //  - quiet: no refresh pending and no block in it below the limits so far, its last block
+      //    within π's scan: the walk scans it all and changes nothing.
       if (gu2[q] > 0) {
         const double at = (st[ks + G - 1] - base_) - p;
-        const bool lower_a = gacc[q] < a;
-        if ((!(at <= reach_d + scan_x) || (lower_a && !(at <= reach_d))) && dirty && !refresh())
-          return Cert::Unknown;
-        if (at <= reach_d + scan_x &&
-            (!lower_a || (at <= reach_d && ke == ks && (gacc[q] >= 0.5 * a || !gate || *gate != 0)))) {
-          if (lower_a || gjerk[q] < j) {
+        const bool lower = gacc[q] < a || gjerk[q] < j;
+        const bool within = at <= reach_d && ke == ks && (gacc[q] >= 0.5 * a || !gate || *gate != 0);
+        if (within || (!lower && !dirty && at <= reach_d + scan_x)) {
+          if (lower) {
             uniform = false;
-            if (lower_a) a = gacc[q], ke = ks + G;
+            a = std::min(a, gacc[q]);
             j = std::min(j, gjerk[q]);
             dirty = scan_stale = true;
           } else {
             for (std::size_t i = ks; uniform && i < ks + G; ++i) uniform = acc_k[i] == a && jerk_k[i] == j;
           }
+          if (within) ke = ks + G;
           ks += G - 1;
           continue;
         }

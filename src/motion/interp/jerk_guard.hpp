@@ -87,7 +87,8 @@ struct GuardVerdict {
 // hold 2·cap + 1), or once the front starts kRebase_mm from the origin (a start is read as the
 // difference of two: kept to the rounding of small numbers).
 // Every check reads the blocks through it: the same starts everywhere, compact arrays instead of
-// the 1.9 kB blocks. The certificate takes a whole group at once where it can; brake() asks "the
+// the 1.9 kB blocks. The certificate takes a whole group at once where block by block its walk
+// would end the same; brake() asks "the
 // smallest jerk from block k while a block starts within d of p" in every simulated cycle: a
 // binary search and a few group minima. Group answers (groups = false: block by block, the
 // reference) never change a verdict.

@@ -308,11 +308,133 @@ std::vector<PathRequest> smoothed_circle(std::vector<core::Vec>& pts) {
 }
 }  // namespace
 
-// The certificate skips a group of 16 blocks of its index at once where every cap and junction in
-// it is above the ramp's peak (GuardScratch); that must never change a verdict. On a smoothed
+// The certificate takes a group of 8 blocks of its index at once wherever the walk block by block
+// would end the same (GuardScratch); that must never change a verdict. On a smoothed
 // flower (0.5 mm chords, the radius swinging 30 ± 12 mm three times a lap: the pieces' caps rise
 // and fall, tens of them within the braking distance) the default run skips groups and gives
 // setpoints bit-identical to the one taking every block one by one.
+namespace {
+Block guard_block(double len, double a, double j, double cap, double feed, double u2) {
+  Block b;
+  b.length = len;
+  b.a_mm_s2 = a;
+  b.j_mm_s3 = j;
+  b.v_cap_mm_s = b.v_split_mm_s = cap;
+  b.feed_mm_s = feed;
+  b.v2_junction = u2;
+  return b;
+}
+// Every field of the verdicts, exactly (`near`: distances to the rounding of starts read as
+// differences from an index's origin).
+void expect_same_verdict(const GuardVerdict& a, const GuardVerdict& b, bool near, const std::string& what) {
+  const auto close = [&](double x, double y) {
+    return x == y || (std::isnan(x) && std::isnan(y)) || (near && std::abs(x - y) <= 1e-12 * (1 + std::abs(x)));
+  };
+  EXPECT_EQ(a.hard_ok, b.hard_ok) << what;
+  EXPECT_EQ(a.soft_ok, b.soft_ok) << what;
+  EXPECT_EQ(a.stop_binds, b.stop_binds) << what;
+  EXPECT_TRUE(close(a.fail_at_mm, b.fail_at_mm)) << what << ": " << a.fail_at_mm << " vs " << b.fail_at_mm;
+  EXPECT_EQ(a.fail_u_mm_s, b.fail_u_mm_s) << what;
+  EXPECT_EQ(a.cert_a, b.cert_a) << what;
+  EXPECT_EQ(a.cert_j, b.cert_j) << what;
+  EXPECT_EQ(a.cert_w, b.cert_w) << what;
+  EXPECT_TRUE(close(a.cert_gate_mm, b.cert_gate_mm)) << what;
+  EXPECT_EQ(a.cert_a2, b.cert_a2) << what;
+  EXPECT_EQ(a.cert_j2, b.cert_j2) << what;
+  EXPECT_TRUE(close(a.brake_s, b.brake_s)) << what << ": " << a.brake_s << " vs " << b.brake_s;
+}
+// The verdict on `step` over `blocks` (the first `n` the window), block by block, with groups, and
+// with groups from an index kept through `origin` pops (the same blocks at other positions).
+void expect_group_verdicts(const std::vector<Block>& blocks, std::size_t n, double s_front, double v_now,
+                           const PathStep& step, std::size_t origin, const std::string& what) {
+  GuardMode mode;
+  mode.certify = true;
+  mode.simulate = false;
+  GuardVerdict v[3];
+  for (int variant = 0; variant < 3; ++variant) {
+    core::Ring<Block> ring(256);
+    GuardScratch scratch(256);
+    scratch.groups = variant != 0;
+    if (variant == 2) {
+      for (std::size_t i = 0; i < origin; ++i) ring.push(blocks.front());
+      for (const auto& b : blocks) ring.push(b);
+      const JerkGuard g0(ring, ring.size(), 0, 0, 0.001, 1, false, 1, scratch);
+      for (std::size_t k = 0; k < ring.size(); ++k) g0.acc(k);  // indexed at these positions
+      for (std::size_t i = 0; i < origin; ++i) ring.pop();
+    } else {
+      for (const auto& b : blocks) ring.push(b);
+    }
+    const JerkGuard g(ring, n, s_front, v_now, 0.001, 1, false, 1, scratch);
+    v[variant] = g.verify(step, mode);
+  }
+  expect_same_verdict(v[0], v[1], false, what + ", groups");
+  expect_same_verdict(v[0], v[2], true, what + ", groups, index kept through pops");
+}
+}  // namespace
+
+// The certificate's walk takes a group of blocks whole only where block by block it would end the
+// same: with no refresh of the ramp's distance on the way (with |a| above A being brought down, a
+// lower J shortens the ramp) and no entry that narrows π's scan. Two cases a review's differential
+// fuzzer found (660 M cases), where taking groups gave another verdict, then seeded random windows.
+TEST(PlannerJerk, CertificateGroupsGiveTheBlockByBlockVerdict) {
+  constexpr std::size_t G = GuardScratch::kGroup;
+  const double inf = std::numeric_limits<double>::infinity();
+  {  // A group that only lowers the jerk, taken while the entry cursor lagged behind a block of lower
+     // acceleration: the jerk's refresh made the walk enter it and end its scan inside the group.
+    std::vector<Block> b{guard_block(3.65, 2000, 10000, 100, 100, 1e4), guard_block(0.2, 1100, 10000, 100, 100, 1e4)};
+    for (std::size_t i = 2; i < G; ++i) b.push_back(guard_block((9.95 - 3.85) / (G - 2), 2000, 10000, 100, 100, 1e4));
+    for (std::size_t i = G; i < 2 * G; ++i)
+      b.push_back(guard_block(3.5 / G, 2000, i == G ? 9000 : i == G + 4 ? 8000 : 10000, 100, 100, 1e4));
+    for (std::size_t i = 0; i < 24; ++i) b.push_back(guard_block(0.5, 2000, 10000, 100, 100, 1e4));
+    b.front().v2_junction = 0;
+    expect_group_verdicts(b, b.size(), 0, 50, jerk_cycle({0, 50, 0, 0}, 0, 0.001), 5, "lagging entry");
+  }
+  {  // Braking harder than A (|a| above it is brought down at J first): refreshed at a group's start,
+     // the lower J shortened the ramp, and the walk took other blocks (fuzzer seed 114338).
+    const double rows[][6] = {
+        {1.1088714472104717, 151.4844638028807, inf, 35.971321177384752, 27.517271185532703, 1293.9359472465687},
+        {0.25719096936750047, 76.341797442090837, 1588.4848201071009, 26.72947023289764, 34.397599754245064, 283.74887974977548},
+        {0.056512693764427892, 151.4844638028807, 2128.8778233005205, 24.770203691646667, 59.017745473485924, 613.56299092566621},
+        {0.12039499194192818, 52.937313756117973, 2252.71551599134, 47.897019618983236, 20.146569501196222, 2294.1244883812651},
+        {0.13657694697284534, 151.4844638028807, 2073.4582475296897, 47.897019618983236, 34.392639910390663, 2294.1244883812651},
+        {0.34335212832738793, 57.778989180232813, 2073.4582475296897, 47.897019618983236, 53.862961795549005, 2294.1244883812651},
+        {0.16770488628081676, 151.4844638028807, 1849.5134180023877, 47.897019618983236, 44.85563413011301, 2294.1244883812651},
+        {0.012332113714627207, 103.64681265595485, 878.17408817859712, 50.343639330095861, 55.7400987199211, 136.62700337383973},
+        {1.4554606652677, 207.69141697805173, 2128.8778233005205, 11.655499245241577, 24.971997067641038, 135.85066265582697},
+        {0.073890436500821416, 151.4844638028807, 28.876713412192196, 47.897019618983236, inf, 2294.1244883812651},
+        {1.0675441334974534, 151.4844638028807, 1842.8545415407459, 47.897019618983236, inf, 1454.9453222534921},
+        {1.0929315008473262, 121.566107743088, 2087.2076041734349, 47.897019618983236, 35.545263373857289, 2294.1244883812651},
+        {0.013910263054333901, 151.4844638028807, 1061.1032123107657, 10.878688904933428, 35.721854939012005, 118.34587229032167},
+        {2.6467630057015148, 151.4844638028807, 69.845609415346232, 47.897019618983236, 27.561833759572608, 2294.1244883812651},
+        {1.3960222632067201, 222.0478771831653, 2037.08560849728, 20.63230151549282, 46.913944360956641, 425.69186582620733},
+        {1.2320289990992146, 53.169157556386267, 2120.484085004508, 47.897019618983236, 39.989820440148527, 2294.1244883812651}};
+    std::vector<Block> b;
+    for (const auto& r : rows) b.push_back(guard_block(r[0], r[1], r[2], r[3], r[4], r[5]));
+    b[9].rapid = b[10].rapid = true;
+    PathStep step = jerk_cycle({0, 16.384361981973971, 0, 0}, 0, 0.001);
+    step.x = {0.016369870857921708, 16.340888609817178, -86.946744313588354, 0};
+    expect_group_verdicts(b, b.size(), 0.24975768181161045, 16.384361981973971, step, 43, "braking harder than A");
+  }
+  // Seeded random windows: a few values of acceleration and jerk (as smoothed paths have), short
+  // and long blocks, exact stops, states accelerating or braking beyond A.
+  std::mt19937_64 rng(20261202);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int c = 0; c < 3000 && !HasFailure(); ++c) {
+    const double a0 = 200 + 2000 * u(rng), j0 = 2000 + 20000 * u(rng);
+    std::vector<Block> b;
+    const std::size_t n = 8 + rng() % 120;
+    for (std::size_t k = 0; k < n; ++k) {
+      const double a = rng() % 4 == 0 ? a0 * (0.05 + u(rng)) : a0, j = rng() % 4 == 0 ? j0 * (0.05 + u(rng)) : j0;
+      const double cap = 20 + 80 * u(rng);
+      const double len = rng() % 3 == 0 ? 0.01 + 0.1 * u(rng) : 0.1 + 2 * u(rng);
+      b.push_back(guard_block(len, a, j, cap, 100, rng() % 40 == 0 ? 0.0 : cap * cap * (0.2 + u(rng))));
+    }
+    const double v = std::min(b.front().v_cap_mm_s, 60 * u(rng)), acc = a0 * (3 * u(rng) - 2);
+    const PathStep step = jerk_cycle({0, v, acc, 0}, j0 * (2 * u(rng) - 1), 0.001);
+    expect_group_verdicts(b, n, b.front().length * u(rng), v, step, rng() % 100, "random window " + std::to_string(c));
+  }
+}
+
 TEST(PlannerJerk, CertificateGroupSkipsGiveTheSameSetpoints) {
   const auto lim = jerk_limits(200, 2000, 10000);
   std::vector<core::Vec> pts;
