@@ -134,7 +134,7 @@ void curve_jerk_acc(SegmentLimits& l, double j_axis, double amp_n, double kappa,
 }  // namespace
 
 // rt-safe
-SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double cn, double v_target) {
+SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double cn, double v_target, bool jerk_norm) {
   const double ct = std::sqrt(std::max(0.0, 1 - cn * cn));
   SegmentLimits l{kInf, kInf, kInf};
   double& v = l.v_max_mm_s;
@@ -208,8 +208,25 @@ SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double 
         if (k3 > 0) v = std::min(v, std::cbrt(sk * ax.j_max_mm_s3 / k3));
       }
     }
-    for (std::size_t i = 0; i < core::kMaxAxes; ++i)
-      if (tmax[i] >= 1e-12) curve_jerk_acc(l, lim.axis[i].j_max_mm_s3, 1.0, kappa, kPolyAccJerkShare);
+    // 3·v·a_t·κ takes, per axis, what is left of j_max_i by the larger of two bounds that both hold
+    // (the path's jerk vector is j_t·T + 3·v·a_t·κ⃗ + v³·dκ⃗/ds, with dκ⃗/ds = −κ²·T + n⃗, n⃗ ⟂ T and
+    // |dκ⃗/ds| ≤ k3):
+    //   sum:   |j_t|·T_i + v³·k3 + 3·v·a_t·κ ≤ j_i   (at least kPolyAccJerkShare is left by the above)
+    //   norm:  an axis sees at most the vector's length, √((|j_t| + v³κ²)² + (3·v·a_t·κ + v³|n⃗|)²),
+    //          whose largest value over the split of k3 between κ² and |n⃗| is
+    //          v³·k3 + √(j_t² + (3·v·a_t·κ)²) ≤ j_i.
+    // The norm is the larger where an axis carries most of the tangent: at a cap that takes half of
+    // j_i, 3·v·a_t·κ gets 0.4 of it instead of 0.2.
+    if (kappa > 0 && std::isfinite(v) && v > 0)
+      for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
+        const double ji = lim.axis[i].j_max_mm_s3;
+        if (tmax[i] < 1e-12 || !(ji > 0)) continue;
+        const double s = v * v * v * k3 / ji, t = l.j_max_mm_s3 / ji;
+        const double sum = 1 - t * tmax[i] - s;
+        const double norm2 = (1 - s) * (1 - s) - t * t;
+        const double u = std::max(sum, jerk_norm && norm2 > 0 && s < 1 ? std::sqrt(norm2) : 0.0);
+        l.a_max_mm_s2 = std::min(l.a_max_mm_s2, u * ji / (3 * v * kappa));
+      }
   }
   return l;
 }
@@ -597,7 +614,7 @@ void Planner::join(Block& b, double p_mm) {
           curves_built_ += build ? 1 : 0;
           const SegmentResult q = build ? make_corner_blend(a.seg.end, a.seg.dir, b.seg.dir, dq, alpha, beta)
                                         : SegmentResult{CurveError::BadValue, {}};
-          const SegmentLimits ql = q.ok() ? segment_limits(q.segment, limits_, config_.centripetal_share, vq) : SegmentLimits{};
+          const SegmentLimits ql = q.ok() ? segment_limits(q.segment, limits_, config_.centripetal_share, vq, false) : SegmentLimits{};
           if (q.ok() && ql.v_max_mm_s > config_.g2_blend_gain * v_arc && ql.a_max_mm_s2 > 0 &&
               std::isfinite(ql.a_max_mm_s2)) {
             blend = Block{};
@@ -797,7 +814,7 @@ bool Planner::blend_curves(Block& a, Block& b, double tol, double da_half, Block
   ++curves_built_;
   const SegmentResult q = make_bezier(ctrl);
   if (!q.ok()) return false;
-  const SegmentLimits ql = segment_limits(q.segment, limits_, config_.centripetal_share, vq);
+  const SegmentLimits ql = segment_limits(q.segment, limits_, config_.centripetal_share, vq, false);
   // Worth it only where it saves time. Each side of a corner crossed at v loses about T·(v_s − v)/2v_s
   // against going on at v_s (its speed: cap and feed; T the ramp's time from v_s to v with its
   // tangential acceleration at low speed, where the speed-dependent law of trapezoid blocks gives
@@ -917,7 +934,7 @@ bool Planner::fillet(Block& c, double p_mm) {
   for (int i = 0; i <= 16; ++i)
     if (!(q.segment.distance_to(h.seg.point(h.length * i / 16)) <= tol)) return false;
   const double vq = target_speed(h.rapid, std::min({a.feed_mm_s, h.feed_mm_s, c.feed_mm_s}));
-  const SegmentLimits ql = segment_limits(q.segment, limits_, config_.centripetal_share, vq);
+  const SegmentLimits ql = segment_limits(q.segment, limits_, config_.centripetal_share, vq, false);
   if (!(ql.v_max_mm_s >= config_.fillet_share * std::min(h.v_cap_mm_s, vq)) || !(ql.a_max_mm_s2 > 0) ||
       !std::isfinite(ql.a_max_mm_s2))
     return false;

@@ -80,8 +80,10 @@ struct SegmentLimits {
 };
 // v_target: the fastest the segment will be asked to go (feed × the highest override; ∞ unknown):
 // a Poly piece that could go faster trades the centripetal share it does not need for acceleration.
+// jerk_norm: a Poly piece's 3·v·a_t·κ may take what the norm of its jerk vector leaves (false: only
+// what the plain sum of the shares leaves; the planner's own blends, docs/planner.md "Poly segments").
 SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double centripetal_share = 0.8,
-                             double v_target = std::numeric_limits<double>::infinity());
+                             double v_target = std::numeric_limits<double>::infinity(), bool jerk_norm = true);
 SegmentLimits blend_limits(const BlendArc& b, const MachineLimits& lim, double centripetal_share = 0.8);
 
 // Trapezoid blocks (no jerk limit) use the speed-dependent law instead of the fixed split
