@@ -110,18 +110,11 @@ namespace {
 // acceleration along an arc is worth more than its cap now that the follower enters it at the cap).
 // `amp_t` bounds |t_i|, `amp_n` bounds the axis's share of the curvature vector.
 constexpr double kArcTangentJerkShare = 0.4, kArcSpeedJerkShare = 0.2, kArcAccJerkShare = 0.4;
-// On a circle in a coordinate plane t_i and n_i are one phase apart with amplitude 1 (t = (−sin φ,
-// cos φ), n = −(cos φ, sin φ)), so |j_i| ≤ √((|j_t| + v³κ²)² + (3·v·a_t·κ)²), not the sum: the three
-// shares scaled by 1/√((⅖ + ⅕)² + (⅖)²) = 1.387 still keep every axis within j_max (the sum of the
-// shares alone leaves 28 % of it unused there). Spirals, helices and blends keep the sum.
-const double kCircleJerkScale =
-    1 / std::sqrt((kArcTangentJerkShare + kArcSpeedJerkShare) * (kArcTangentJerkShare + kArcSpeedJerkShare) +
-                  kArcAccJerkShare * kArcAccJerkShare);
-void curve_jerk(SegmentLimits& l, double j_axis, double amp_t, double amp_n, double kappa, double scale = 1) {
+void curve_jerk(SegmentLimits& l, double j_axis, double amp_t, double amp_n, double kappa) {
   if (!(j_axis > 0)) return;
-  if (amp_t > 1e-12) l.j_max_mm_s3 = std::min(l.j_max_mm_s3, scale * kArcTangentJerkShare * j_axis / amp_t);
+  if (amp_t > 1e-12) l.j_max_mm_s3 = std::min(l.j_max_mm_s3, kArcTangentJerkShare * j_axis / amp_t);
   if (kappa > 0 && amp_n > 1e-12)
-    l.v_max_mm_s = std::min(l.v_max_mm_s, std::cbrt(scale * kArcSpeedJerkShare * j_axis / (kappa * kappa * amp_n)));
+    l.v_max_mm_s = std::min(l.v_max_mm_s, std::cbrt(kArcSpeedJerkShare * j_axis / (kappa * kappa * amp_n)));
 }
 // The 3·v·a_t·κ term, once the speed cap is known (`share` of j_max: kArcAccJerkShare on arcs,
 // kPolyAccJerkShare on Poly curves).
@@ -154,15 +147,12 @@ SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double 
     // κv² ≤ cn·a its magnitude stays ≤ √(ct² + cn²)·a = a.
     const auto ab = g.arc_bounds();  // a spiral (end off the circle) bounds its tangent and curvature
     const double inplane = ab.inplane, kappa = ab.kappa;
-    bool circle = g.dradius == 0;  // a circle in its plane: no spiral, no helix
-    for (std::size_t i = 0; i < core::kMaxAxes; ++i) circle = circle && std::abs(g.linear[i]) < 1e-12;
-    const double circle_scale = circle ? kCircleJerkScale : 1.0;
     for (std::size_t i : {std::size_t{g.axis0}, std::size_t{g.axis1}}) {
       if (inplane < 1e-12) break;
       v = std::min(v, lim.axis[i].v_max_mm_s / inplane);
       a = std::min(a, ct * ab.share * lim.axis[i].a_max_mm_s2 / inplane);
       if (kappa > 0) v = std::min(v, std::sqrt(cn * ab.share * lim.axis[i].a_max_mm_s2 / kappa));
-      curve_jerk(l, lim.axis[i].j_max_mm_s3, inplane, 1.0, kappa, circle_scale);
+      curve_jerk(l, lim.axis[i].j_max_mm_s3, inplane, 1.0, kappa);
     }
     for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
       const double d = std::abs(g.linear[i]);
@@ -172,8 +162,7 @@ SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double 
       if (lim.axis[i].j_max_mm_s3 > 0) l.j_max_mm_s3 = std::min(l.j_max_mm_s3, lim.axis[i].j_max_mm_s3 / d);
     }
     if (inplane >= 1e-12)
-      for (std::size_t i : {std::size_t{g.axis0}, std::size_t{g.axis1}})
-        curve_jerk_acc(l, lim.axis[i].j_max_mm_s3, 1.0, kappa, circle_scale * kArcAccJerkShare);
+      for (std::size_t i : {std::size_t{g.axis0}, std::size_t{g.axis1}}) curve_jerk_acc(l, lim.axis[i].j_max_mm_s3, 1.0, kappa);
   } else {
     // Poly (Bézier, NURBS, splines): per-axis largest tangent share and the largest curvature, both
     // sampled at construction. The tangent and normal of a general curve are not one phase apart as

@@ -841,39 +841,6 @@ TEST(PlannerJerk, LowAccelerationBlocksAreEnteredAtTheirCapNotFromRest) {
   EXPECT_EQ(gated.end, reqs.back().geom.end);
 }
 
-// On a circle in its plane each axis sees the path's tangential jerk (less v³κ²) and 3·v·a_t·κ one
-// phase apart, so its jerk is their Euclidean sum, not the plain one: the arc's shares of j_max
-// (⅖ tangential, ⅕ v³κ², ⅖ 3·v·a_t·κ) are scaled by 1/√(0.6² + 0.4²) = 1.387 (planner.cpp
-// curve_jerk). An R5 circle at 10 000 mm/s³ runs at 41.1 mm/s instead of 36.8, every axis within its
-// jerk in the trace; a helix (the tangent leaves the plane) and a spiral keep the plain sum.
-TEST(PlannerJerk, PlaneCirclesUseTheWholeJerkBudget) {
-  const double j = 10'000, r = 5, kappa = 1 / r;
-  const auto lim = jerk_limits(100, 1000, j);
-  const double scale = 1 / std::sqrt(0.6 * 0.6 + 0.4 * 0.4);
-  const Segment half = make_arc(xyz(r, 0), xyz(-r, 0), 0, 1, 0, 0, 1);
-  const SegmentLimits sl = segment_limits(half, lim);
-  const double cap = std::cbrt(scale * 0.2 * j / (kappa * kappa));
-  EXPECT_NEAR(sl.v_max_mm_s, cap, 1e-9);
-  EXPECT_NEAR(sl.j_max_mm_s3, scale * 0.4 * j, 1e-9);
-  EXPECT_NEAR(sl.a_max_mm_s2, scale * 0.4 * j / (3 * cap * kappa), 1e-9);
-  EXPECT_GT(sl.v_max_mm_s, 1.1 * std::cbrt(0.2 * j / (kappa * kappa)));  // 41.1 against 36.8 mm/s
-
-  const Segment helix = make_arc(xyz(r, 0, 0), xyz(-r, 0, 2), 0, 1, 0, 0, 1);
-  const double kh = helix.arc_bounds().kappa;
-  EXPECT_NEAR(segment_limits(helix, lim).v_max_mm_s, std::cbrt(0.2 * j / (kh * kh)), 1e-9);
-
-  // Four turns of half circles: the path speed reaches the new cap, every axis within its limits.
-  std::vector<PathRequest> reqs;
-  for (std::uint32_t k = 0; k < 8; ++k) {
-    const double sgn = k % 2 ? -1 : 1;
-    reqs.push_back(arc_req(make_arc(xyz(sgn * r, 0), xyz(-sgn * r, 0), 0, 1, 0, 0, 1), 100, k));
-  }
-  const auto res = run_path(lim, reqs, 64);
-  expect_within(res, 0.05, "four turns of an R5 circle");
-  EXPECT_GT(res.max_path_v, 0.99 * cap);
-  EXPECT_LE(res.max_path_v, cap * (1 + 1e-9));
-}
-
 // Approaching an exact stop, the follower's position-mode stop (Otg1's peak-speed search) is solved
 // once and sampled on while it is taken cycle after cycle (StopPlan: the rest of a time-optimal stop
 // is the time-optimal stop from where it has got to): the setpoints are those of solving it every
