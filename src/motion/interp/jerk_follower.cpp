@@ -41,7 +41,7 @@ ProfileState StopPlan::step(const ProfileState& x, double target, double v_max, 
   if (kept_ && lim.v_max_mm_s == v_max_ && a_max == a_max_ && j_max == j_max_) {
     const ProfileState here = otg_.at(t_);
     // The same state (taken from this plan) and the same point, to the rounding of the distances.
-    if (here.v == x.v && here.a == x.a && std::abs(target - (target_ - here.s)) <= 1e-9 * std::max(1.0, target)) {
+    if (here.v == x.v && here.a == x.a && std::abs(target - (target_ - here.s)) <= 1e-12 * std::max(1.0, target)) {
       ProfileState y = otg_.at(t_ + dt);
       y.s -= here.s;
       t_next_ = t_ + dt;
