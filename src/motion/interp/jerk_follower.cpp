@@ -28,12 +28,6 @@ ProfileState ramp_step(const ProfileState& x, double vt, double a_max, double j_
 }
 
 // rt-safe
-ProfileState stop_step(const ProfileState& x, double target, double v_max, double a_max, double j_max, double dt) {
-  StopPlan plan;
-  return plan.step(x, target, v_max, a_max, j_max, dt);
-}
-
-// rt-safe
 ProfileState StopPlan::step(const ProfileState& x, double target, double v_max, double a_max, double j_max,
                             double dt) {
   asked_ = true;

@@ -17,17 +17,16 @@ namespace softmc::motion {
 // there; returns the state dt later, with x.s as the origin of s.
 ProfileState ramp_step(const ProfileState& x, double vt, double a_max, double j_max, double dt);
 
-// rt-safe. The time-optimal jerk-limited motion from x to rest at s = target (x.s as origin), no faster
-// than v_max; returns the state dt later. Exact at the target once reached.
-ProfileState stop_step(const ProfileState& x, double target, double v_max, double a_max, double j_max, double dt);
-
-// stop_step kept from cycle to cycle. The rest of a time-optimal stop is the time-optimal stop from
-// where it has got to, so while the follower takes this stop cycle after cycle towards the same point
-// with the same limits, the plan is sampled on instead of solved again (Otg1's peak-speed search:
-// about 9 000 instructions a call). Any other step, point or limit solves it anew.
+// The position-mode stop, kept from cycle to cycle. The rest of a time-optimal stop is the
+// time-optimal stop from where it has got to, so while the follower takes this stop cycle after
+// cycle towards the same point with the same limits, the plan is sampled on instead of solved again
+// (Otg1's peak-speed search: about 9 000 instructions a call). Any other step, point or limit solves
+// it anew.
 class StopPlan {
  public:
-  // rt-safe. As stop_step(x, target, ...), from the kept plan when x is where it left the path.
+  // rt-safe. The time-optimal jerk-limited motion from x to rest at s = target (x.s as origin), no
+  // faster than v_max; returns the state dt later, exact at the target once reached. From the kept
+  // plan when x is where it left the path.
   ProfileState step(const ProfileState& x, double target, double v_max, double a_max, double j_max, double dt);
   // rt-safe. Whether the follower took the last step() as its cycle (else the plan is dropped). Call
   // once every jerk cycle, with false when step() was not asked.
