@@ -116,12 +116,12 @@ void curve_jerk(SegmentLimits& l, double j_axis, double amp_t, double amp_n, dou
   if (kappa > 0 && amp_n > 1e-12)
     l.v_max_mm_s = std::min(l.v_max_mm_s, std::cbrt(kArcSpeedJerkShare * j_axis / (kappa * kappa * amp_n)));
 }
-// The 3·v·a_t·κ term, once the speed cap is known (`share` of j_max: kArcAccJerkShare on arcs,
-// kPolyAccJerkShare on Poly curves).
+// The 3·v·a_t·κ term of arcs and blend arcs, once the speed cap is known (kArcAccJerkShare of j_max;
+// Poly curves take theirs in segment_limits, kPolyAccJerkShare at least).
 constexpr double kPolyAccJerkShare = 0.2;
-void curve_jerk_acc(SegmentLimits& l, double j_axis, double amp_n, double kappa, double share = kArcAccJerkShare) {
+void curve_jerk_acc(SegmentLimits& l, double j_axis, double amp_n, double kappa) {
   if (!(j_axis > 0) || !(kappa > 0) || amp_n < 1e-12 || !std::isfinite(l.v_max_mm_s)) return;
-  l.a_max_mm_s2 = std::min(l.a_max_mm_s2, share * j_axis / (3 * l.v_max_mm_s * kappa * amp_n));
+  l.a_max_mm_s2 = std::min(l.a_max_mm_s2, kArcAccJerkShare * j_axis / (3 * l.v_max_mm_s * kappa * amp_n));
 }
 
 }  // namespace
