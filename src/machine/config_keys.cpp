@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include "motion/limits.hpp"
+
 namespace softmc::machine {
 
 std::string axis_key(std::size_t index) {
@@ -149,6 +151,15 @@ std::optional<ConfigProblem> find_problem(const MachineConfig& cfg, const std::v
       return ConfigProblem{{ak + ".min_mm", ak + ".max_mm", ak},
                            fmt::format("{0}.min_mm must be < {0}.max_mm (got {1} >= {2})", ak,
                                        format_number(a.min_mm), format_number(a.max_mm))};
+    if (const double step = a.max_jerk_mm_s3 * cfg.period_s * cfg.period_s * cfg.period_s;
+        a.max_jerk_mm_s3 > 0 && step < motion::kMinJerkStep_mm)
+      return ConfigProblem{{ak + ".max_jerk_mm_s3", "period_s", ak},
+                           fmt::format("{}.max_jerk_mm_s3 {} mm/s³ moves {:.3g} mm in a cycle of {} s; the jerk "
+                                       "follower needs at least {:g} mm (max_jerk_mm_s3 >= {:.4g}, a longer period_s, or 0 "
+                                       "for no jerk limit)",
+                                       ak, format_number(a.max_jerk_mm_s3), step, format_number(cfg.period_s),
+                                       motion::kMinJerkStep_mm,
+                                       motion::kMinJerkStep_mm / (cfg.period_s * cfg.period_s * cfg.period_s))};
     if (!(a.home_backoff_mm < a.max_mm - a.min_mm))
       return ConfigProblem{{ak + ".home_backoff_mm", ak},
                            fmt::format("{}.home_backoff_mm must be < the travel max_mm - min_mm (got {} >= {})", ak,

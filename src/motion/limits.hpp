@@ -7,6 +7,12 @@
 
 namespace softmc::motion {
 
+// The least distance one cycle of an axis's jerk may move, j·dt³: the jerk follower's tolerances
+// (stops landing on their point, the guard's rounding slack) are tested down to it, and keep the axis
+// jerk within 1e-4 of its limit there (PlannerJerk.AxesWithATinyJerkPerCycleKeepItAtRestOnAPoint).
+// Below it they are coarser than a cycle of jerk: the configuration refuses such an axis.
+inline constexpr double kMinJerkStep_mm = 2e-10;
+
 struct AxisLimits {
   double v_max_mm_s = 0;    // 0 = axis not present
   double a_max_mm_s2 = 0;

@@ -161,7 +161,10 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   // Pass the blocks the cycle finished.
   for (int m = 0; m < config_.max_blocks_per_cycle && !ring.empty(); ++m) {
     const Block& b = ring.front();
-    if (s_ < b.length - 1e-12) break;
+    // Only once s reaches the block's length: passing it a picometre early dropped that distance
+    // (s − length clamped to 0), a position step of up to 1e-12 mm, which is several times one
+    // cycle's jerk where j·dt³ is near its floor (motion::kMinJerkStep_mm).
+    if (s_ < b.length) break;
     // A point to stop at (an exact stop, the end of what is planned) is passed only at rest: a brake
     // whose last jerk phase ends a few µs into the next cycle reaches it with v ≈ 0 but |a| > 0, and
     // passing then would turn that acceleration with the path's direction (an axis acceleration

@@ -649,7 +649,10 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
     const double start = this->start(k) - p;
     if (!(start <= reach(r.d_stop))) break;
     if (k > c.k && start >= stop_at) {  // an exact stop or the window's end: reached at rest, never crossed
-      if (r.d_stop > start + kAbs) return broken(true, start, 0, true);
+      // Rounding slack relative to the distance (it shrinks as the stop nears), not a fixed 1e-9 mm:
+      // a brake let run that far past its point is a position step of several cycles' jerk where
+      // j·dt³ is near its floor (motion::kMinJerkStep_mm).
+      if (r.d_stop > start * (1 + kRel) + kTouch_mm) return broken(true, start, 0, true);
       break;
     }
     if (g.groups && k > c.k && (o + k) % G == 0 && k + G <= n_ && start >= kAbs && start > phase0_end) {

@@ -120,9 +120,10 @@ OtgResult Otg1::update(double target_mm, const OtgLimits& limits) {
   }
   // Each bracket holds one root of the length (smooth between the kinks): the Illinois form of
   // regula falsi, with a bisection step whenever it does not halve the bracket, until the length is
-  // within a picometre-scale tolerance of the distance or the bracket is down to rounding (about
-  // ten trials a bracket instead of fifty for bisection alone).
-  const double tol_mm = 1e-13 * std::max(1.0, std::abs(dp));
+  // within 1e-13 of the distance (down to 1e-16 mm: a stop a nanometre long lands within a small
+  // part of one cycle's jerk, j·dt³ ≥ motion::kMinJerkStep_mm) or the bracket is down to rounding
+  // (about ten trials a bracket instead of fifty for bisection alone).
+  const double tol_mm = std::max(1e-13 * std::abs(dp), 1e-16);
   for (int i = 0; i + 1 < n; ++i) {
     if (f[i] == 0 || f[i + 1] == 0 || (f[i] < 0) == (f[i + 1] < 0)) continue;
     double lo = vs[i], hi = vs[i + 1], flo = f[i], fhi = f[i + 1];

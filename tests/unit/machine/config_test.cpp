@@ -438,6 +438,9 @@ TEST(MachineConfig, ValidateChecksEveryRule) {
       {"overtravel < 0", [](auto& c) { axis_of(c, kX).switch_overtravel_mm = -2; }, "axes.x.switch_overtravel_mm must be >= 0 (got -2)"},
       {"backoff < 0", [](auto& c) { axis_of(c, kX).home_backoff_mm = -1; }, "axes.x.home_backoff_mm must be >= 0 (got -1)"},
       {"backoff >= travel", [](auto& c) { axis_of(c, kZ).home_backoff_mm = 100; }, "axes.z.home_backoff_mm must be < the travel"},
+      {"jerk per cycle below the follower's floor", [](auto& c) { c.period_s = 1e-4; axis_of(c, kX).max_jerk_mm_s3 = 100; },
+       "axes.x.max_jerk_mm_s3 100 mm/s³ moves 1e-10 mm in a cycle of 0.0001 s; the jerk follower needs at least 2e-10 mm "
+       "(max_jerk_mm_s3 >= 200, a longer period_s, or 0 for no jerk limit)"},
       {"period small", [](auto& c) { c.period_s = 1e-6; }, "period_s must be between 1e-05 and 0.1 s (got 1e-06)"},
       {"period large", [](auto& c) { c.period_s = 0.2; }, "period_s must be between 1e-05 and 0.1 s (got 0.2)"},
       {"queue < 2", [](auto& c) { c.planner_queue = 1; }, "planner_queue must be an integer between 2 and 1048576 (got 1)"},
@@ -462,6 +465,8 @@ TEST(MachineConfig, ValidateAcceptsTheEdgesOfEachRange) {
   cfg.planner_queue = 2;
   auto& x = axis_of(cfg, kX);
   x.max_jerk_mm_s3 = 0;  // no jerk limit
+  axis_of(cfg, kY).max_jerk_mm_s3 = 2e5;  // j·dt³ = 2e-10 mm: the follower's floor
+  axis_of(cfg, kZ).max_jerk_mm_s3 = 2e5;
   x.feedforward = 0;
   x.switch_overtravel_mm = 0;
   x.home_backoff_mm = 0;
