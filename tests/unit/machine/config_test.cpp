@@ -289,6 +289,11 @@ TEST(MachineConfig, RuleAcrossKeysPointsAtALineThatSetIt) {
             "m.toml:2:1: error: axes.y.min_mm must be < axes.y.max_mm (got 500 >= 400)");
   EXPECT_THAT(error_of([] { parse_machine("[axes.y]\nmax_mm = -1\n", "m.toml"); }),
               StartsWith("m.toml:2:1: error: axes.y.min_mm must be < axes.y.max_mm"));
+  // j·dt³ below the jerk follower's floor: the jerk's line, or the period's where only it was set.
+  EXPECT_THAT(error_of([] { parse_machine("period_s = 0.0001\n[axes.x]\nmax_jerk_mm_s3 = 100\n", "m.toml"); }),
+              StartsWith("m.toml:3:1: error: axes.x.max_jerk_mm_s3 100 mm/s³ moves 1e-10 mm in a cycle of 0.0001 s"));
+  EXPECT_THAT(error_of([] { parse_machine("name = \"t\"\nperiod_s = 0.00001\n", "m.toml"); }),
+              StartsWith("m.toml:2:1: error: axes.x.max_jerk_mm_s3 50000 mm/s³ moves 5e-11 mm"));
 }
 
 TEST(MachineConfig, TomlSyntaxErrorHasLineAndColumn) {
