@@ -38,6 +38,7 @@ void set_limits(Block& b, const SegmentLimits& l, double j) {
   b.v_cap_mm_s = l.v_max_mm_s;
   b.v_split_mm_s = l.v_max_mm_s;
   b.j_mm_s3 = j;
+  b.jerk_scale = l.jerk_scale;
 }
 
 // rt-safe. Largest off(u) over u ∈ (0, 1) — the distance of a blend's point from the curves it
@@ -110,21 +111,46 @@ namespace {
 // acceleration along an arc is worth more than its cap now that the follower enters it at the cap).
 // `amp_t` bounds |t_i|, `amp_n` bounds the axis's share of the curvature vector.
 constexpr double kArcTangentJerkShare = 0.4, kArcSpeedJerkShare = 0.2, kArcAccJerkShare = 0.4;
-void curve_jerk(SegmentLimits& l, double j_axis, double amp_t, double amp_n, double kappa) {
+// On a circle in a coordinate plane t_i and n_i are one phase apart with amplitude 1 (t = (−sin φ,
+// cos φ), n = −(cos φ, sin φ)), so |j_i| ≤ √((|j_t| + v³κ²)² + (3·v·a_t·κ)²), not the sum: the three
+// shares scaled by 1/√((⅖ + ⅕)² + (⅖)²) = 1.387 still keep every axis within j_max (the sum of the
+// shares alone leaves 28 % of it unused there). Spirals, helices and blends keep the sum.
+const double kCircleJerkScale =
+    1 / std::sqrt((kArcTangentJerkShare + kArcSpeedJerkShare) * (kArcTangentJerkShare + kArcSpeedJerkShare) +
+                  kArcAccJerkShare * kArcAccJerkShare);
+void curve_jerk(SegmentLimits& l, double j_axis, double amp_t, double amp_n, double kappa, double scale = 1) {
   if (!(j_axis > 0)) return;
-  if (amp_t > 1e-12) l.j_max_mm_s3 = std::min(l.j_max_mm_s3, kArcTangentJerkShare * j_axis / amp_t);
+  if (amp_t > 1e-12) l.j_max_mm_s3 = std::min(l.j_max_mm_s3, scale * kArcTangentJerkShare * j_axis / amp_t);
   if (kappa > 0 && amp_n > 1e-12)
-    l.v_max_mm_s = std::min(l.v_max_mm_s, std::cbrt(kArcSpeedJerkShare * j_axis / (kappa * kappa * amp_n)));
+    l.v_max_mm_s = std::min(l.v_max_mm_s, std::cbrt(scale * kArcSpeedJerkShare * j_axis / (kappa * kappa * amp_n)));
 }
 // The 3·v·a_t·κ term of arcs and blend arcs, once the speed cap is known (kArcAccJerkShare of j_max;
 // Poly curves take theirs in segment_limits, kPolyAccJerkShare at least).
 constexpr double kPolyAccJerkShare = 0.2;
-void curve_jerk_acc(SegmentLimits& l, double j_axis, double amp_n, double kappa) {
+void curve_jerk_acc(SegmentLimits& l, double j_axis, double amp_n, double kappa, double scale = 1) {
   if (!(j_axis > 0) || !(kappa > 0) || amp_n < 1e-12 || !std::isfinite(l.v_max_mm_s)) return;
-  l.a_max_mm_s2 = std::min(l.a_max_mm_s2, kArcAccJerkShare * j_axis / (3 * l.v_max_mm_s * kappa * amp_n));
+  l.a_max_mm_s2 = std::min(l.a_max_mm_s2, scale * kArcAccJerkShare * j_axis / (3 * l.v_max_mm_s * kappa * amp_n));
 }
 
+
 }  // namespace
+
+// rt-safe
+double jerk_left_by_step(double used, const Block& b, double s_end, double v_mm_s, const MachineLimits& lim) {
+  const double plain = 1 - used;
+  if (!(b.jerk_scale > 1) || b.is_blend || b.seg.kind != SegmentKind::Arc) return plain;
+  double j_axis = kInf;  // the least jerk of the circle's plane axes
+  for (std::size_t i : {std::size_t{b.seg.axis0}, std::size_t{b.seg.axis1}})
+    if (lim.axis[i].j_max_mm_s3 > 0) j_axis = std::min(j_axis, lim.axis[i].j_max_mm_s3);
+  if (!std::isfinite(j_axis) || !(b.j_mm_s3 > 0)) return plain;
+  const double kappa = core::norm(b.curvature(s_end));
+  // The third difference of the setpoints spans three cycles around the junction.
+  const double v = v_mm_s + 3 * b.a_mm_s2 * lim.period_s;
+  const double c_a = 3 * v * b.a_mm_s2 * kappa, c_v = v * v * v * kappa * kappa;
+  const double rest = plain * plain * j_axis * j_axis - c_a * c_a;
+  const double f = rest > 0 ? (std::sqrt(rest) - c_v) / b.j_mm_s3 : 0.0;
+  return std::clamp(f, 0.0, plain);
+}
 
 // rt-safe
 SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double cn, double v_target, bool jerk_norm) {
@@ -147,12 +173,15 @@ SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double 
     // κv² ≤ cn·a its magnitude stays ≤ √(ct² + cn²)·a = a.
     const auto ab = g.arc_bounds();  // a spiral (end off the circle) bounds its tangent and curvature
     const double inplane = ab.inplane, kappa = ab.kappa;
+    bool circle = g.dradius == 0;  // a circle in its plane: no spiral, no helix
+    for (std::size_t i = 0; i < core::kMaxAxes; ++i) circle = circle && std::abs(g.linear[i]) < 1e-12;
+    const double circle_scale = circle ? kCircleJerkScale : 1.0;
     for (std::size_t i : {std::size_t{g.axis0}, std::size_t{g.axis1}}) {
       if (inplane < 1e-12) break;
       v = std::min(v, lim.axis[i].v_max_mm_s / inplane);
       a = std::min(a, ct * ab.share * lim.axis[i].a_max_mm_s2 / inplane);
       if (kappa > 0) v = std::min(v, std::sqrt(cn * ab.share * lim.axis[i].a_max_mm_s2 / kappa));
-      curve_jerk(l, lim.axis[i].j_max_mm_s3, inplane, 1.0, kappa);
+      curve_jerk(l, lim.axis[i].j_max_mm_s3, inplane, 1.0, kappa, circle_scale);
     }
     for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
       const double d = std::abs(g.linear[i]);
@@ -162,7 +191,9 @@ SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double 
       if (lim.axis[i].j_max_mm_s3 > 0) l.j_max_mm_s3 = std::min(l.j_max_mm_s3, lim.axis[i].j_max_mm_s3 / d);
     }
     if (inplane >= 1e-12)
-      for (std::size_t i : {std::size_t{g.axis0}, std::size_t{g.axis1}}) curve_jerk_acc(l, lim.axis[i].j_max_mm_s3, 1.0, kappa);
+      for (std::size_t i : {std::size_t{g.axis0}, std::size_t{g.axis1}})
+        curve_jerk_acc(l, lim.axis[i].j_max_mm_s3, 1.0, kappa, circle_scale);
+    l.jerk_scale = inplane >= 1e-12 ? circle_scale : 1.0;
   } else {
     // Poly (Bézier, NURBS, splines): per-axis largest tangent share and the largest curvature, both
     // sampled at construction. The tangent and normal of a general curve are not one phase apart as
@@ -980,15 +1011,31 @@ void Planner::commit(const Block& b) {
       const Vec dk = nb.curvature(0) - prev.curvature(prev.length);
       const double dt = limits_.period_s;
       nb.v2_junction = std::min(nb.v2_junction, curvature_step_v2(dk, limits_, config_.curvature_step_share));
-      double used = 0;  // largest share of an axis's jerk budget the step takes
-      for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
-        const double d = std::abs(dk[i]);
-        if (d < 1e-12 || !(limits_.axis[i].j_max_mm_s3 > 0)) continue;
-        used = std::max(used, nb.v2_junction * d / (limits_.axis[i].j_max_mm_s3 * dt));
-      }
-      if (used > 0) {
-        nb.j_mm_s3 *= 1 - used;
-        prev.j_mm_s3 *= 1 - used;
+      // The largest share of an axis's jerk budget the step takes, and what each neighbour keeps of
+      // its path jerk; a junction that would leave a plane circle less than a quarter of its
+      // tangential jerk (never at the default share: about half at worst) is crossed slower instead.
+      for (int halvings = 0;; ++halvings) {
+        double used = 0;
+        for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
+          const double d = std::abs(dk[i]);
+          if (d < 1e-12 || !(limits_.axis[i].j_max_mm_s3 > 0)) continue;
+          used = std::max(used, nb.v2_junction * d / (limits_.axis[i].j_max_mm_s3 * dt));
+        }
+        if (!(used > 0)) break;
+        const double v = std::sqrt(nb.v2_junction);
+        const double f_nb = jerk_left_by_step(used, nb, 0, v, limits_);
+        const double f_prev = jerk_left_by_step(used, prev, prev.length, v, limits_);
+        if (std::min(f_nb, f_prev) < 0.25 * (1 - used)) {
+          if (halvings == 40) {  // (never seen) a stop: the step then happens at rest
+            nb.v2_junction = 0;
+            break;
+          }
+          nb.v2_junction *= 0.5;
+          continue;
+        }
+        nb.j_mm_s3 *= f_nb;
+        prev.j_mm_s3 *= f_prev;
+        break;
       }
     }
   }

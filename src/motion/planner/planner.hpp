@@ -77,6 +77,9 @@ struct SegmentLimits {
   double v_max_mm_s = 0;
   double a_max_mm_s2 = 0;
   double j_max_mm_s3 = 0;  // path jerk; infinite when no axis of the segment has a jerk limit
+  // > 1 on a circle in its plane: its jerk shares are scaled to the Euclidean bound (docs/planner.md
+  // "Jerk"); a curvature step at its ends then takes its share off the tangential jerk differently.
+  double jerk_scale = 1;
 };
 // v_target: the fastest the segment will be asked to go (feed × the highest override; ∞ unknown):
 // a Poly piece that could go faster trades the centripetal share it does not need for acceleration.
@@ -85,6 +88,16 @@ struct SegmentLimits {
 SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double centripetal_share = 0.8,
                              double v_target = std::numeric_limits<double>::infinity(), bool jerk_norm = true);
 SegmentLimits blend_limits(const BlendArc& b, const MachineLimits& lim, double centripetal_share = 0.8);
+
+// The factor on a block's path jerk (its tangential jerk) that leaves room for a curvature step
+// taking `used` of j_i·dt at its end `s_end` (0 or its length) crossed at speeds up to v_mm_s: the
+// crossing cycle sees the step on top of the block's own jerk. Plain shares (jerk_scale 1): 1 − used,
+// within j_i by the shares' slack (0.89 of it at used = ¼ in the worst phase). A plane circle with
+// its shares scaled to the Euclidean bound has no such slack; an in-plane axis (T_i² + N_i² = 1)
+// sees at most √((f·j + v³κ²)² + (3·v·a·κ)²) + used·j_i there, so f is taken from that at the
+// crossing's actual speed and curvature. (With 1 − used it could reach 1.13·j_i with every share at
+// its cap, which a junction slow enough for its step never is: f comes out at 1 − used in practice.)
+double jerk_left_by_step(double used, const Block& b, double s_end, double v_mm_s, const MachineLimits& lim);
 
 // Trapezoid blocks (no jerk limit) use the speed-dependent law instead of the fixed split
 // (tangent_law.hpp): the law, and the speed cap where the centripetal acceleration alone takes some

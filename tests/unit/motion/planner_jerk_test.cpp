@@ -877,6 +877,74 @@ TEST(PlannerJerk, AStopPlanIsSampledOnWhileItIsTaken) {
   EXPECT_LT(worst, 1e-9);
 }
 
+// On a circle in its plane each axis sees the path's tangential jerk (less v³κ²) and 3·v·a_t·κ one
+// phase apart, so its jerk is their Euclidean sum, not the plain one: the arc's shares of j_max
+// (⅖ tangential, ⅕ v³κ², ⅖ 3·v·a_t·κ) are scaled by 1/√(0.6² + 0.4²) = 1.387 (planner.cpp
+// curve_jerk). An R5 circle at 10 000 mm/s³ runs at 41.1 mm/s instead of 36.8, every axis within its
+// jerk in the trace; a helix (the tangent leaves the plane) and a spiral keep the plain sum.
+TEST(PlannerJerk, PlaneCirclesUseTheWholeJerkBudget) {
+  const double j = 10'000, r = 5, kappa = 1 / r;
+  const auto lim = jerk_limits(100, 1000, j);
+  const double scale = 1 / std::sqrt(0.6 * 0.6 + 0.4 * 0.4);
+  const Segment half = make_arc(xyz(r, 0), xyz(-r, 0), 0, 1, 0, 0, 1);
+  const SegmentLimits sl = segment_limits(half, lim);
+  const double cap = std::cbrt(scale * 0.2 * j / (kappa * kappa));
+  EXPECT_NEAR(sl.v_max_mm_s, cap, 1e-9);
+  EXPECT_NEAR(sl.j_max_mm_s3, scale * 0.4 * j, 1e-9);
+  EXPECT_NEAR(sl.a_max_mm_s2, scale * 0.4 * j / (3 * cap * kappa), 1e-9);
+  EXPECT_GT(sl.v_max_mm_s, 1.1 * std::cbrt(0.2 * j / (kappa * kappa)));  // 41.1 against 36.8 mm/s
+
+  const Segment helix = make_arc(xyz(r, 0, 0), xyz(-r, 0, 2), 0, 1, 0, 0, 1);
+  const double kh = helix.arc_bounds().kappa;
+  EXPECT_NEAR(segment_limits(helix, lim).v_max_mm_s, std::cbrt(0.2 * j / (kh * kh)), 1e-9);
+
+  // Four turns of half circles: the path speed reaches the new cap, every axis within its limits.
+  std::vector<PathRequest> reqs;
+  for (std::uint32_t k = 0; k < 8; ++k) {
+    const double sgn = k % 2 ? -1 : 1;
+    reqs.push_back(arc_req(make_arc(xyz(sgn * r, 0), xyz(-sgn * r, 0), 0, 1, 0, 0, 1), 100, k));
+  }
+  const auto res = run_path(lim, reqs, 64);
+  expect_within(res, 0.05, "four turns of an R5 circle");
+  EXPECT_GT(res.max_path_v, 0.99 * cap);
+  EXPECT_LE(res.max_path_v, cap * (1 + 1e-9));
+}
+
+// A curvature step at a plane circle's end (jerk_left_by_step): the circle's shares are scaled to
+// the Euclidean bound, so the step's share comes off its tangential jerk by the crossing's own
+// speed and curvature. Slow crossings (every one a step of ¼ allows in practice) keep 1 − used;
+// at the circle's cap speed with its full acceleration the factor is lower and the worst axis
+// jerk, √((f·j + v³κ²)² + (3·v·a·κ)²) + used·j_i, is exactly j_i; plain shares keep 1 − used.
+TEST(PlannerJerk, CurvatureStepsNextToPlaneCirclesKeepTheEuclideanBound) {
+  const double j = 10'000, r = 5;
+  auto lim = jerk_limits(100, 1000, j);
+  Block circle;
+  circle.seg = make_arc(xyz(r, 0), xyz(-r, 0), 0, 1, 0, 0, 1);
+  circle.length = circle.seg.length;
+  const SegmentLimits sl = segment_limits(circle.seg, lim);
+  ASSERT_GT(sl.jerk_scale, 1.38);
+  circle.a_mm_s2 = sl.a_max_mm_s2;
+  circle.j_mm_s3 = sl.j_max_mm_s3;
+  circle.v_cap_mm_s = sl.v_max_mm_s;
+  circle.jerk_scale = sl.jerk_scale;
+  // The step a line into this circle takes at its junction speed (curvature_step_share ¼, 1 ms).
+  const double used = 0.25, v_step = std::sqrt(used * j * lim.period_s / (1 / r));
+  EXPECT_DOUBLE_EQ(jerk_left_by_step(used, circle, 0, v_step, lim), 1 - used);
+  // At the cap speed (no real step allows it): the bound binds.
+  const double v = sl.v_max_mm_s;
+  const double f = jerk_left_by_step(used, circle, 0, v, lim);
+  EXPECT_LT(f, 0.9 * (1 - used));
+  EXPECT_GT(f, 0.25);
+  const double vv = v + 3 * circle.a_mm_s2 * lim.period_s, k = 1 / r;
+  const double worst = std::hypot(f * circle.j_mm_s3 + vv * vv * vv * k * k, 3 * vv * circle.a_mm_s2 * k) + used * j;
+  EXPECT_NEAR(worst, j, 1e-9 * j);
+  // Plain shares (a helix, a line): 1 − used.
+  Block line;
+  line.seg = make_line(xyz(0, 0), xyz(10, 0));
+  line.j_mm_s3 = j;
+  EXPECT_DOUBLE_EQ(jerk_left_by_step(used, line, 0, v, lim), 1 - used);
+}
+
 // A chain of lines and arcs joined tangentially, with a corner now and then (the draws of
 // RandomTangentChainsOfLinesAndArcsKeepTheLimits).
 static std::vector<PathRequest> tangent_chain(std::mt19937_64& rng, std::uniform_real_distribution<double>& u, double tol) {
@@ -906,6 +974,72 @@ static std::vector<PathRequest> tangent_chain(std::mt19937_64& rng, std::uniform
     at = r.geom.end;
   }
   return reqs;
+}
+
+// tangent_chain's draws in a coordinate plane (axes p0, p1: xy, xz or yz), full circles now and then.
+static std::vector<PathRequest> plane_chain(std::mt19937_64& rng, std::uniform_real_distribution<double>& u, double tol,
+                                            std::uint8_t p0, std::uint8_t p1) {
+  std::vector<PathRequest> reqs;
+  core::Vec at{};
+  double h = 2 * std::numbers::pi * u(rng);
+  const auto in_plane = [&](double x, double y) {
+    core::Vec v{};
+    v[p0] = x;
+    v[p1] = y;
+    return v;
+  };
+  const int n = 3 + static_cast<int>(rng() % 20);
+  for (int k = 0; k < n; ++k) {
+    PathRequest r;
+    r.feed_mm_s = 5 + 200 * u(rng);
+    r.tag = static_cast<std::uint32_t>(k);
+    r.tolerance_mm = tol;
+    if (rng() % 8 == 0) h += (u(rng) < 0.5 ? -1 : 1) * (0.05 + 2.5 * u(rng));  // a corner
+    if (rng() % 3 == 0) {
+      const double len = 0.5 + 20 * u(rng);
+      r.geom = make_line(at, at + in_plane(std::cos(h), std::sin(h)) * len);
+    } else {
+      const double rad = rng() % 4 == 0 ? 0.2 + 0.8 * u(rng) : 1 + 30 * u(rng);
+      const double dir = rng() % 2 ? 1.0 : -1.0, sweep = rng() % 4 == 0 ? 2 * std::numbers::pi : 0.1 + 3 * u(rng);
+      const double c0 = at[p0] - dir * rad * std::sin(h), c1 = at[p1] + dir * rad * std::cos(h);
+      const double a0 = std::atan2(at[p1] - c1, at[p0] - c0), a1 = a0 + dir * sweep;
+      core::Vec to = at;
+      to[p0] = c0 + rad * std::cos(a1);
+      to[p1] = c1 + rad * std::sin(a1);
+      if (sweep == 2 * std::numbers::pi) to = at;  // a full circle
+      r.geom = make_arc(at, to, p0, p1, c0, c1, dir > 0 ? 1 : -1);
+      h += dir * sweep;
+    }
+    reqs.push_back(r);
+    at = r.geom.end;
+  }
+  return reqs;
+}
+
+// Plane circles take their jerk shares scaled to the Euclidean bound (1.387, planner.cpp
+// curve_jerk), and a curvature step at their ends takes its share off their tangential jerk by
+// jerk_left_by_step: chains of lines, arcs and full circles in the xy, xz and yz planes, at 1 ms and
+// 0.25 ms cycles, with the override changed now and then, keep every axis within its speed,
+// acceleration and jerk, and every setpoint within P.
+TEST(PlannerJerk, RandomPlaneChainsAtEveryCycleKeepTheLimits) {
+  constexpr std::uint8_t kPlanes[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+  for (std::uint64_t seed = 1; seed <= 150; ++seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(0, 1);
+    MachineLimits lim = random_jerk_limits(rng, u);
+    lim.period_s = rng() % 2 ? 0.001 : 0.00025;
+    const double tol = std::array{0.0, 0.01, 0.05, 0.2}[rng() % 4];
+    const auto& pl = kPlanes[rng() % 3];
+    const auto reqs = plane_chain(rng, u, tol, pl[0], pl[1]);
+    const std::uint64_t every = 200 + rng() % 3000;
+    const auto hook = [&](std::uint64_t c, Interpolator& in) {
+      if (c > 0 && c % every == 0) in.set_feed_override(0.3 + 1.2 * static_cast<double>((c / every * 7919) % 100) / 100);
+    };
+    const auto res = run_path(lim, reqs, 3 + rng() % 200, {}, hook);
+    expect_within(res, tol, ("seed " + std::to_string(seed)).c_str());
+    EXPECT_EQ(res.end, reqs.back().geom.end) << "seed " << seed;
+    if (HasFailure()) break;
+  }
 }
 
 // Seeded chains of lines and arcs joined tangentially (CAM contours: every junction a curvature
