@@ -1357,7 +1357,12 @@ static TinyJerkCase tiny_jerk_case(std::uint64_t seed) {
 // (that distance dropped), and Otg1 landed a stop within 1e-13 mm (then snapped). 108 of 400 seeds
 // broke the jerk limit before those three were fixed, none after.
 TEST(PlannerJerk, AxesWithATinyJerkPerCycleKeepItAtRestOnAPoint) {
-  for (std::uint64_t seed = 1; seed <= 60; ++seed) {
+  // Seeds 1–60, two a review found (10 000 seeds), 1096 and 9879, where the certificate's slack of 1e-9 of the
+  // distance to a stop let the fallback brake, run for 750 cycles, end 6e-11 mm past it (1.075×),
+  // and 2079, where Otg1 landing a stop within a fixed 1e-13 mm broke it 1.0001×.
+  std::vector<std::uint64_t> seeds{1096, 9879, 2079};
+  for (std::uint64_t seed = 1; seed <= 60; ++seed) seeds.push_back(seed);
+  for (const std::uint64_t seed : seeds) {
     const TinyJerkCase c = tiny_jerk_case(seed);
     const auto res = run_path(c.lim, c.reqs, c.capacity);
     expect_within(res, c.tol, ("seed " + std::to_string(seed)).c_str());
