@@ -45,7 +45,6 @@ struct alignas(64) Block {
   double v_split_mm_s = 0;    // the speed up to which a_mm_s2 holds (= v_cap_mm_s on jerk blocks)
   double feed_mm_s = 0;       // programmed feed (infinite for rapids): the override scales it
   double v2_junction = 0;     // (mm/s)²: entry speed the junction with the previous block allows
-  double jerk_scale = 1;      // SegmentLimits::jerk_scale of its segment (> 1: a plane circle's)
   bool is_blend = false;
   bool rapid = false;
   std::uint32_t tag = 0;  // instruction index carried to the setpoints

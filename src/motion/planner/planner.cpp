@@ -13,7 +13,7 @@ namespace softmc::motion {
 
 namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kMinLength_mm = 1e-9;  // shorter pieces carry no motion worth a block
+constexpr double kMinLength_mm = 1e-9;  // shorter pieces carry no motion worth a block (see min_length_mm)
 
 // The quintic corner blend's shape for a deflection δ (make_corner_blend): the control-point
 // spacing (α, β) that, for a given distance of the midpoint from the corner, keeps the jerk term
@@ -38,7 +38,6 @@ void set_limits(Block& b, const SegmentLimits& l, double j) {
   b.v_cap_mm_s = l.v_max_mm_s;
   b.v_split_mm_s = l.v_max_mm_s;
   b.j_mm_s3 = j;
-  b.jerk_scale = l.jerk_scale;
 }
 
 // rt-safe. Largest off(u) over u ∈ (0, 1) — the distance of a blend's point from the curves it
@@ -111,13 +110,17 @@ namespace {
 // acceleration along an arc is worth more than its cap now that the follower enters it at the cap).
 // `amp_t` bounds |t_i|, `amp_n` bounds the axis's share of the curvature vector.
 constexpr double kArcTangentJerkShare = 0.4, kArcSpeedJerkShare = 0.2, kArcAccJerkShare = 0.4;
-// On a circle in a coordinate plane t_i and n_i are one phase apart with amplitude 1 (t = (−sin φ,
-// cos φ), n = −(cos φ, sin φ)), so |j_i| ≤ √((|j_t| + v³κ²)² + (3·v·a_t·κ)²), not the sum: the three
-// shares scaled by 1/√((⅖ + ⅕)² + (⅖)²) = 1.387 still keep every axis within j_max (the sum of the
-// shares alone leaves 28 % of it unused there). Spirals, helices and blends keep the sum.
-const double kCircleJerkScale =
-    1 / std::sqrt((kArcTangentJerkShare + kArcSpeedJerkShare) * (kArcTangentJerkShare + kArcSpeedJerkShare) +
-                  kArcAccJerkShare * kArcAccJerkShare);
+// On a curve in a coordinate plane T_i and N_i are one phase apart with amplitude 1 (T = (cos ψ,
+// sin ψ), N = (−sin ψ, cos ψ)), so |j_i| ≤ √((|j_t| + v³κ²)² + (3·v·a_t·κ + v³·|κ'|)²), not the sum.
+// On a circle κ' = 0: the three shares scaled by 1/√((⅖ + ⅕)² + (⅖)²) = 1.387 still keep every axis
+// within j_max (the sum of the shares alone leaves 28 % of it unused there). A G-code arc whose end
+// point is off its circle by the program's rounding is a slight spiral (Segment::dradius), |κ'| =
+// κ²·ρ with ρ about |dradius|/length: the scale takes ρ·⅕ onto the last term. Helices and
+// blends keep the sum.
+double circle_jerk_scale(double rho) {
+  const double tv = kArcTangentJerkShare + kArcSpeedJerkShare, ac = kArcAccJerkShare + rho * kArcSpeedJerkShare;
+  return 1 / std::sqrt(tv * tv + ac * ac);
+}
 void curve_jerk(SegmentLimits& l, double j_axis, double amp_t, double amp_n, double kappa, double scale = 1) {
   if (!(j_axis > 0)) return;
   if (amp_t > 1e-12) l.j_max_mm_s3 = std::min(l.j_max_mm_s3, scale * kArcTangentJerkShare * j_axis / amp_t);
@@ -136,20 +139,39 @@ void curve_jerk_acc(SegmentLimits& l, double j_axis, double amp_n, double kappa,
 }  // namespace
 
 // rt-safe
-double jerk_left_by_step(double used, const Block& b, double s_end, double v_mm_s, const MachineLimits& lim) {
-  const double plain = 1 - used;
-  if (!(b.jerk_scale > 1) || b.is_blend || b.seg.kind != SegmentKind::Arc) return plain;
-  double j_axis = kInf;  // the least jerk of the circle's plane axes
-  for (std::size_t i : {std::size_t{b.seg.axis0}, std::size_t{b.seg.axis1}})
-    if (lim.axis[i].j_max_mm_s3 > 0) j_axis = std::min(j_axis, lim.axis[i].j_max_mm_s3);
-  if (!std::isfinite(j_axis) || !(b.j_mm_s3 > 0)) return plain;
+double plane_arc_spiral(const Segment& g) {
+  if (g.kind != SegmentKind::Arc || !(g.length > 0)) return kInf;
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i)
+    if (std::abs(g.linear[i]) >= 1e-12) return kInf;  // a helix
+  if (!(std::abs(g.dradius) <= 0.01 * std::min(g.radius, g.radius + g.dradius))) return kInf;
+  // r runs linearly in the angle: |κ'| = κ²·|dr/dθ|/r·(1 + O(ε²)), ε = |dr/dθ|/r ≤ 1 %; |dr/dθ|/r ≤
+  // |dradius|·r_max/(r_min·length·(1 − ε)), within twice |dradius|/length.
+  return 2 * std::abs(g.dradius) / g.length;
+}
+
+// rt-safe
+double jerk_left_by_step(const Vec& step_j, const Block& b, double s_end, double v_mm_s, const MachineLimits& lim) {
+  double used = 0;
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i)
+    if (lim.axis[i].j_max_mm_s3 > 0) used = std::max(used, step_j[i] / lim.axis[i].j_max_mm_s3);
+  const double plain = std::max(0.0, 1 - used);
+  const double rho = b.is_blend ? kInf : plane_arc_spiral(b.seg);
+  if (!std::isfinite(rho) || !(b.j_mm_s3 > 0) || !std::isfinite(b.j_mm_s3)) return plain;
   const double kappa = core::norm(b.curvature(s_end));
-  // The third difference of the setpoints spans three cycles around the junction.
-  const double v = v_mm_s + 3 * b.a_mm_s2 * lim.period_s;
-  const double c_a = 3 * v * b.a_mm_s2 * kappa, c_v = v * v * v * kappa * kappa;
-  const double rest = plain * plain * j_axis * j_axis - c_a * c_a;
-  const double f = rest > 0 ? (std::sqrt(rest) - c_v) / b.j_mm_s3 : 0.0;
-  return std::clamp(f, 0.0, plain);
+  // The third difference of the setpoints spans three cycles around the junction (never past the
+  // block's hard cap).
+  const double v = std::min(v_mm_s + 3 * b.a_mm_s2 * lim.period_s, b.v_cap_mm_s);
+  const double c_v = v * v * v * kappa * kappa, c_a = 3 * v * b.a_mm_s2 * kappa + rho * c_v;
+  // Only the plane's axes carry the arc's jerk; each keeps what its own step leaves.
+  double f = kInf;
+  for (std::size_t i : {std::size_t{b.seg.axis0}, std::size_t{b.seg.axis1}}) {
+    const double j_i = lim.axis[i].j_max_mm_s3;
+    if (!(j_i > 0)) continue;
+    const double left = std::max(0.0, j_i - step_j[i]);
+    const double rest = left * left - c_a * c_a;
+    f = std::min(f, rest > 0 ? (std::sqrt(rest) - c_v) / b.j_mm_s3 : 0.0);
+  }
+  return std::isfinite(f) ? std::clamp(f, 0.0, 1.0) : 1.0;
 }
 
 // rt-safe
@@ -173,9 +195,8 @@ SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double 
     // κv² ≤ cn·a its magnitude stays ≤ √(ct² + cn²)·a = a.
     const auto ab = g.arc_bounds();  // a spiral (end off the circle) bounds its tangent and curvature
     const double inplane = ab.inplane, kappa = ab.kappa;
-    bool circle = g.dradius == 0;  // a circle in its plane: no spiral, no helix
-    for (std::size_t i = 0; i < core::kMaxAxes; ++i) circle = circle && std::abs(g.linear[i]) < 1e-12;
-    const double circle_scale = circle ? kCircleJerkScale : 1.0;
+    const double rho = plane_arc_spiral(g);  // ∞: a helix or a real spiral (the plain sum of the shares)
+    const double circle_scale = std::isfinite(rho) ? circle_jerk_scale(rho) : 1.0;
     for (std::size_t i : {std::size_t{g.axis0}, std::size_t{g.axis1}}) {
       if (inplane < 1e-12) break;
       v = std::min(v, lim.axis[i].v_max_mm_s / inplane);
@@ -393,7 +414,19 @@ CurveLaw blend_law(const BlendArc& b, const MachineLimits& lim) {
 }
 
 Planner::Planner(const MachineLimits& limits, std::size_t queue_capacity, const PlannerConfig& config)
-    : limits_(limits), config_(config), queue_(queue_capacity) {}
+    : limits_(limits), config_(config), queue_(queue_capacity), min_length_mm_(min_length_mm(limits)) {}
+
+// The shortest piece that is planned as a block: a nanometre, or a twentieth of the least jerk per
+// cycle, j·dt³, where that is smaller. A piece left out leaves its length as a step in the
+// setpoints, a jerk of up to 2·δ/dt³: 10 times the limit for a nanometre at the floor
+// motion::kMinJerkStep_mm, nothing on a machine with 1e-5 mm of jerk per cycle.
+double Planner::min_length_mm(const MachineLimits& lim) {
+  double m = kMinLength_mm;
+  const double dt3 = lim.period_s * lim.period_s * lim.period_s;
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i)
+    if (lim.present(i) && lim.axis[i].j_max_mm_s3 > 0) m = std::min(m, 0.05 * lim.axis[i].j_max_mm_s3 * dt3);
+  return m;
+}
 
 // rt-safe. A blend the planner built lies inside every present axis's travel (P-9): the programmed
 // moves were checked when pushed, a blend within P of them may still pass a limit they touch.
@@ -427,7 +460,7 @@ PlanResult Planner::push(const PathRequest& req) {
     constexpr double kEps = 1e-9;
     if (lo[i] < limits_.axis[i].min_mm - kEps || hi[i] > limits_.axis[i].max_mm + kEps) return PlanResult::OutsideTravel;
   }
-  if (!(req.geom.length > kMinLength_mm)) return PlanResult::Ok;  // nothing to move
+  if (!(req.geom.length > min_length_mm_)) return PlanResult::Ok;  // nothing to move
   const auto sl = segment_limits(req.geom, limits_, config_.centripetal_share);
   if (!std::isfinite(sl.v_max_mm_s) || !std::isfinite(sl.a_max_mm_s2) || !(sl.v_max_mm_s > 0) ||
       !(sl.a_max_mm_s2 > 0))
@@ -474,7 +507,7 @@ bool Planner::merge(const PathRequest& req) {
   const Vec s = m.req.geom.start, e = req.geom.end;
   const Vec chord = e - s;
   const double len = core::norm(chord);
-  if (!(len > kMinLength_mm)) return false;
+  if (!(len > min_length_mm_)) return false;
   const Vec c = chord * (1 / len);
   // The corner at the stage's end joins the merged points for the check. Each point's offset from
   // S is kept, so a push costs one dot product per point: the distance off the chord is
@@ -602,7 +635,7 @@ void Planner::join(Block& b, double p_mm) {
           r = d / std::tan(h);
         }
         const bool jerk = !(std::isinf(a.j_mm_s3) && std::isinf(b.j_mm_s3));
-        if (d > kMinLength_mm && r > kMinLength_mm) {
+        if (d > min_length_mm_ && r > min_length_mm_) {
           blend.is_blend = true;
           blend.blend = make_blend_arc(a.seg.end - a.seg.dir * d, a.seg.dir, b.seg.dir, r, delta);
           blend.length = r * delta;
@@ -630,7 +663,7 @@ void Planner::join(Block& b, double p_mm) {
           // gain, the quintic (tens of µs to build: its length table and sampled limits) is not.
           const double vq = target_speed(a.rapid && b.rapid, std::min(a.feed_mm_s, b.feed_mm_s));
           const bool worth = !(config_.g2_blend_gain * v_arc >= vq);
-          const bool build = worth && dq > kMinLength_mm;
+          const bool build = worth && dq > min_length_mm_;
           curves_built_ += build ? 1 : 0;
           const SegmentResult q = build ? make_corner_blend(a.seg.end, a.seg.dir, b.seg.dir, dq, alpha, beta)
                                         : SegmentResult{CurveError::BadValue, {}};
@@ -663,7 +696,7 @@ void Planner::join(Block& b, double p_mm) {
     if (!blended && tol > 0 && (a.seg.kind == SegmentKind::Arc || b.seg.kind == SegmentKind::Arc))
       blended = blend_curves(a, b, tol, queue_.pending_full_length_ / 2, blend);
     if (!blended && p_mm > 0) kink(a, b);
-    if (a.length > kMinLength_mm) commit(a);
+    if (a.length > min_length_mm_) commit(a);
     if (blended) commit(blend);
   }
   queue_.pending_ = b;
@@ -805,7 +838,7 @@ bool Planner::blend_curves(Block& a, Block& b, double tol, double da_half, Block
     });
   };
   bool fits = false;
-  for (int it = 0; it < 16 && std::min(da, db) > kMinLength_mm && !fits; ++it) {
+  for (int it = 0; it < 16 && std::min(da, db) > min_length_mm_ && !fits; ++it) {
     const double dev = fit(da, db, ctrl);
     fits = dev <= 0.95 * tol;
     if (!fits) {
@@ -972,7 +1005,7 @@ bool Planner::fillet(Block& c, double p_mm) {
   c.seg = make_line(v + t1 * d, c.seg.end);
   c.length = c.seg.length;
   queue_.has_held_ = false;
-  if (a.length > kMinLength_mm) commit(a);
+  if (a.length > min_length_mm_) commit(a);
   commit(blend);
   queue_.pending_ = c;
   queue_.pending_full_length_ = full_c;
@@ -985,7 +1018,7 @@ void Planner::flush() {
   release_held();
   if (!queue_.has_pending_) return;
   queue_.has_pending_ = false;
-  if (queue_.pending_.length > kMinLength_mm) commit(queue_.pending_);
+  if (queue_.pending_.length > min_length_mm_) commit(queue_.pending_);
 }
 
 // rt-safe. Appends a block: its junction limit with the block before it, then the backward pass.
@@ -1012,19 +1045,22 @@ void Planner::commit(const Block& b) {
       const double dt = limits_.period_s;
       nb.v2_junction = std::min(nb.v2_junction, curvature_step_v2(dk, limits_, config_.curvature_step_share));
       // The largest share of an axis's jerk budget the step takes, and what each neighbour keeps of
-      // its path jerk; a junction that would leave a plane circle less than a quarter of its
-      // tangential jerk (never at the default share: about half at worst) is crossed slower instead.
+      // its path jerk; a junction that would leave a plane arc less than a quarter of what plain
+      // shares keep (a stiff axis next to a soft one, a fast crossing onto a small radius) is crossed
+      // slower instead.
       for (int halvings = 0;; ++halvings) {
         double used = 0;
+        Vec step_j{};  // the jerk the step puts on each axis (mm/s³)
         for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
           const double d = std::abs(dk[i]);
           if (d < 1e-12 || !(limits_.axis[i].j_max_mm_s3 > 0)) continue;
-          used = std::max(used, nb.v2_junction * d / (limits_.axis[i].j_max_mm_s3 * dt));
+          step_j[i] = nb.v2_junction * d / dt;
+          used = std::max(used, step_j[i] / limits_.axis[i].j_max_mm_s3);
         }
         if (!(used > 0)) break;
         const double v = std::sqrt(nb.v2_junction);
-        const double f_nb = jerk_left_by_step(used, nb, 0, v, limits_);
-        const double f_prev = jerk_left_by_step(used, prev, prev.length, v, limits_);
+        const double f_nb = jerk_left_by_step(step_j, nb, 0, v, limits_);
+        const double f_prev = jerk_left_by_step(step_j, prev, prev.length, v, limits_);
         if (std::min(f_nb, f_prev) < 0.25 * (1 - used)) {
           if (halvings == 40) {  // (never seen) a stop: the step then happens at rest
             nb.v2_junction = 0;

@@ -77,8 +77,9 @@ struct SegmentLimits {
   double v_max_mm_s = 0;
   double a_max_mm_s2 = 0;
   double j_max_mm_s3 = 0;  // path jerk; infinite when no axis of the segment has a jerk limit
-  // > 1 on a circle in its plane: its jerk shares are scaled to the Euclidean bound (docs/planner.md
-  // "Jerk"); a curvature step at its ends then takes its share off the tangential jerk differently.
+  // ≠ 1 on an arc in its plane (a circle, or the slight spiral of a G-code arc whose end is off its
+  // circle): its jerk shares are scaled to the Euclidean bound (docs/planner.md "Jerk"), about 1.387;
+  // a curvature step at its ends then takes its share off the tangential jerk by jerk_left_by_step.
   double jerk_scale = 1;
 };
 // v_target: the fastest the segment will be asked to go (feed × the highest override; ∞ unknown):
@@ -89,15 +90,20 @@ SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double 
                              double v_target = std::numeric_limits<double>::infinity(), bool jerk_norm = true);
 SegmentLimits blend_limits(const BlendArc& b, const MachineLimits& lim, double centripetal_share = 0.8);
 
+// |κ'|/κ² bound of an arc in a coordinate plane (0 on a circle; a G-code arc whose end is off its
+// circle by the program's rounding is a slight spiral: about 2·|dradius|/length), ∞ for helices and
+// arcs whose radius changes by more than 1 %.
+double plane_arc_spiral(const Segment& g);
+
 // The factor on a block's path jerk (its tangential jerk) that leaves room for a curvature step
-// taking `used` of j_i·dt at its end `s_end` (0 or its length) crossed at speeds up to v_mm_s: the
-// crossing cycle sees the step on top of the block's own jerk. Plain shares (jerk_scale 1): 1 − used,
-// within j_i by the shares' slack (0.89 of it at used = ¼ in the worst phase). A plane circle with
-// its shares scaled to the Euclidean bound has no such slack; an in-plane axis (T_i² + N_i² = 1)
-// sees at most √((f·j + v³κ²)² + (3·v·a·κ)²) + used·j_i there, so f is taken from that at the
-// crossing's actual speed and curvature. (With 1 − used it could reach 1.13·j_i with every share at
-// its cap, which a junction slow enough for its step never is: f comes out at 1 − used in practice.)
-double jerk_left_by_step(double used, const Block& b, double s_end, double v_mm_s, const MachineLimits& lim);
+// putting step_j[i] of jerk on axis i at the block's end `s_end` (0 or its length), crossed at
+// speeds up to v_mm_s: the crossing cycle sees the step on top of the block's own jerk. Plain shares
+// (lines, helices, blends, Poly): 1 − the largest step_j[i]/j_i. A plane arc's shares are scaled to
+// the Euclidean bound and have no slack there: each in-plane axis sees at most √((f·j + v³κ²)² +
+// (3·v·a·κ + v³·|κ'|)²) + step_j[i], so f is taken from that at the crossing's speed (capped at the
+// block's) and curvature, axis by axis. At a slow crossing it is above 1 − used; at the arc's cap
+// speed with its full acceleration it is lower (a stiff axis next to a soft one can bring it below).
+double jerk_left_by_step(const Vec& step_j, const Block& b, double s_end, double v_mm_s, const MachineLimits& lim);
 
 // Trapezoid blocks (no jerk limit) use the speed-dependent law instead of the fixed split
 // (tangent_law.hpp): the law, and the speed cap where the centripetal acceleration alone takes some
@@ -148,6 +154,7 @@ class Planner {
   bool fillet(Block& c, double p_mm);
   void release_held();
   bool inside_travel(const Segment& g) const;
+  static double min_length_mm(const MachineLimits& lim);
   static constexpr double kFilletMaxRad = 2.7;   // fillets turn less (arc and corners together)
   static constexpr double kFilletMaxTurn = 1.5;  // |Δt| at either end of the arc: about 97°
   // The fastest a move is asked to go: its feed at the highest override (∞ for rapids: the axes').
@@ -160,6 +167,7 @@ class Planner {
   MachineLimits limits_;
   PlannerConfig config_;
   PlanQueue queue_;
+  double min_length_mm_;  // min_length_mm(limits_)
   mutable std::uint64_t curves_built_ = 0;
 };
 
