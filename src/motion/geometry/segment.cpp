@@ -264,6 +264,8 @@ Segment::ArcBounds Segment::arc_bounds() const {
   const double r_max = radius + std::max(0.0, dradius), r_min = radius + std::min(0.0, dradius);
   b.inplane = std::hypot(r_max * w, rp);
   b.kappa = r_max * w * w + 2 * rp * w;
+  // p = r·e_r in the plane with θ' = ω, r' = rp: p''' = −3·r'·ω²·e_r − r·ω³·e_θ.
+  b.k_speed = r_max * w * w * w + 3 * rp * w * w;
   // tangent·curvature = r·r'·θ'² (zero on a circle); |a_t·T + w·K|² ≤ (1 + η)(a_t²|T|² + w²|K|²)
   // with η = |T·K| / (|T|·|K|), so share = 1/√(1 + η).
   if (rp > 0 && r_min > 0) {

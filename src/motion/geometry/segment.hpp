@@ -80,6 +80,7 @@ struct Segment {
   // the two are orthogonal; a spiral's tangent and curvature are a little less than orthogonal).
   struct ArcBounds {
     double inplane = 0, kappa = 0, share = 1;
+    double k_speed = 0;  // bound of |d³p/ds³| in the plane: r_max·ω³ + 3·|r'|·ω² (ω = |sweep|/length)
   };
   ArcBounds arc_bounds() const;
 };

@@ -108,7 +108,7 @@ namespace {
 // budget of an arc's j_max_i is split in fixed shares: j_t two fifths, v³κ² a fifth, 3·v·a_t·κ two
 // fifths (a half, a quarter and a quarter until 2026-12-02: swept on the LinuxCNC programs, the
 // acceleration along an arc is worth more than its cap now that the follower enters it at the cap).
-// `amp_t` bounds |t_i|, `amp_n` bounds the axis's share of the curvature vector.
+// `amp_t` bounds |t_i|, `amp_n` bounds |n_i|.
 constexpr double kArcTangentJerkShare = 0.4, kArcSpeedJerkShare = 0.2, kArcAccJerkShare = 0.4;
 // On a curve in a coordinate plane T_i and N_i are one phase apart with amplitude 1 (T = (cos ψ,
 // sin ψ), N = (−sin ψ, cos ψ)), so |j_i| ≤ √((|j_t| + v³κ²)² + (3·v·a_t·κ + v³·|κ'|)²), not the sum.
@@ -121,11 +121,11 @@ double circle_jerk_scale(double rho) {
   const double tv = kArcTangentJerkShare + kArcSpeedJerkShare, ac = kArcAccJerkShare + rho * kArcSpeedJerkShare;
   return 1 / std::sqrt(tv * tv + ac * ac);
 }
-void curve_jerk(SegmentLimits& l, double j_axis, double amp_t, double amp_n, double kappa, double scale = 1) {
+// `k_speed` bounds the axis's speed term over v³: κ²·amp_t on a plane curve (it runs along T).
+void curve_jerk(SegmentLimits& l, double j_axis, double amp_t, double k_speed, double scale = 1) {
   if (!(j_axis > 0)) return;
   if (amp_t > 1e-12) l.j_max_mm_s3 = std::min(l.j_max_mm_s3, scale * kArcTangentJerkShare * j_axis / amp_t);
-  if (kappa > 0 && amp_n > 1e-12)
-    l.v_max_mm_s = std::min(l.v_max_mm_s, std::cbrt(scale * kArcSpeedJerkShare * j_axis / (kappa * kappa * amp_n)));
+  if (k_speed > 0) l.v_max_mm_s = std::min(l.v_max_mm_s, std::cbrt(scale * kArcSpeedJerkShare * j_axis / k_speed));
 }
 // The 3·v·a_t·κ term of arcs and blend arcs, once the speed cap is known (kArcAccJerkShare of j_max;
 // Poly curves take theirs in segment_limits, kPolyAccJerkShare at least).
@@ -197,12 +197,16 @@ SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double 
     const double inplane = ab.inplane, kappa = ab.kappa;
     const double rho = plane_arc_spiral(g);  // ∞: a helix or a real spiral (the plain sum of the shares)
     const double circle_scale = std::isfinite(rho) ? circle_jerk_scale(rho) : 1.0;
+    // The speed term: v³κ² on a plane arc. A helix's in-plane axes run a circle at v·inplane, so
+    // theirs is v³·|d³p/ds³| in the plane (ArcBounds::k_speed, κ²/inplane on a circular helix):
+    // larger than v³κ² by 1/inplane, tenfold on a helix ten times steeper than its radius.
+    const double k_speed = std::max(kappa * kappa, core::norm(g.linear) >= 1e-12 ? ab.k_speed : 0.0);
     for (std::size_t i : {std::size_t{g.axis0}, std::size_t{g.axis1}}) {
       if (inplane < 1e-12) break;
       v = std::min(v, lim.axis[i].v_max_mm_s / inplane);
       a = std::min(a, ct * ab.share * lim.axis[i].a_max_mm_s2 / inplane);
       if (kappa > 0) v = std::min(v, std::sqrt(cn * ab.share * lim.axis[i].a_max_mm_s2 / kappa));
-      curve_jerk(l, lim.axis[i].j_max_mm_s3, inplane, 1.0, kappa, circle_scale);
+      curve_jerk(l, lim.axis[i].j_max_mm_s3, inplane, k_speed, circle_scale);
     }
     for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
       const double d = std::abs(g.linear[i]);
@@ -315,7 +319,7 @@ SegmentLimits blend_limits(const BlendArc& b, const MachineLimits& lim, double c
     const double circle = std::sqrt(std::max(0.0, (amax / amp) * (amax / amp) - an * an));
     const double sweep = std::max(0.0, amax - an * nmax[i]) / tmax[i];
     l.a_max_mm_s2 = std::min(l.a_max_mm_s2, std::max(circle, sweep));
-    curve_jerk(l, lim.axis[i].j_max_mm_s3, tmax[i], nmax[i], kappa);
+    curve_jerk(l, lim.axis[i].j_max_mm_s3, tmax[i], kappa * kappa * tmax[i]);
   }
   for (std::size_t i = 0; i < core::kMaxAxes; ++i)
     if (nmax[i] >= 1e-12) curve_jerk_acc(l, lim.axis[i].j_max_mm_s3, nmax[i], kappa);

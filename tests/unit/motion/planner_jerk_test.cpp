@@ -898,8 +898,9 @@ TEST(PlannerJerk, PlaneCirclesUseTheWholeJerkBudget) {
   EXPECT_GT(sl.v_max_mm_s, 1.1 * std::cbrt(0.2 * j / (kappa * kappa)));  // 41.1 against 36.8 mm/s
 
   const Segment helix = make_arc(xyz(r, 0, 0), xyz(-r, 0, 2), 0, 1, 0, 0, 1);
-  const double kh = helix.arc_bounds().kappa;
-  EXPECT_NEAR(segment_limits(helix, lim).v_max_mm_s, std::cbrt(0.2 * j / (kh * kh)), 1e-9);
+  const double kh = helix.arc_bounds().kappa, ks = helix.arc_bounds().k_speed;  // ks = kh²/inplane
+  EXPECT_NEAR(ks, kh * kh / helix.arc_bounds().inplane, 1e-12);
+  EXPECT_NEAR(segment_limits(helix, lim).v_max_mm_s, std::cbrt(0.2 * j / ks), 1e-9);
 
   // Four turns of half circles: the path speed reaches the new cap, every axis within its limits.
   std::vector<PathRequest> reqs;
@@ -911,6 +912,54 @@ TEST(PlannerJerk, PlaneCirclesUseTheWholeJerkBudget) {
   expect_within(res, 0.05, "four turns of an R5 circle");
   EXPECT_GT(res.max_path_v, 0.99 * cap);
   EXPECT_LE(res.max_path_v, cap * (1 + 1e-9));
+}
+
+// A steep helix: its in-plane axes run a circle of radius R at the path speed times inplane = R·ω
+// (ω the turn per mm of path), so their speed jerk is v³·R·ω³ = v³·κ²/inplane, not v³·κ² (κ = R·ω²,
+// the helix's curvature). The cap must take the larger term, or a helix of pitch well above its
+// radius overruns the in-plane axes' jerk by 1/inplane times the term's share (a 30 mm half turn of
+// R1 gave about twice j_max). The linear axis sees only the tangential jerk times its share.
+TEST(PlannerJerk, SteepHelicesKeepTheInPlaneAxesJerk) {
+  const double j = 10'000, r = 1;
+  auto lim = jerk_limits(400, 1000, j);
+  lim.axis[2].a_max_mm_s2 = 5000;  // a stiff Z: the path reaches the cap within the first half turn
+  lim.axis[2].j_max_mm_s3 = 100'000;
+  std::vector<PathRequest> reqs;
+  double z = 0;
+  for (std::uint32_t k = 0; k < 6; ++k) {
+    const double sgn = k % 2 ? -1 : 1, rise = k < 3 ? 30 : 5;
+    reqs.push_back(arc_req(make_arc(xyz(sgn * r, 0, z), xyz(-sgn * r, 0, z + rise), 0, 1, 0, 0, 1), 400, k));
+    z += rise;
+  }
+  const Segment steep = reqs[0].geom;
+  const auto ab = steep.arc_bounds();
+  ASSERT_LT(ab.inplane, 0.11);
+  const SegmentLimits sl = segment_limits(steep, lim);
+  const double w = std::numbers::pi / steep.length;  // the turn per mm
+  EXPECT_LE(sl.v_max_mm_s * sl.v_max_mm_s * sl.v_max_mm_s * r * w * w * w, 0.2 * j * (1 + 1e-12));
+  const auto res = run_path(lim, reqs, 64);
+  expect_within(res, 0.05, "steep helix");
+  EXPECT_GT(res.fig.j_ratio, 0.5);  // the jerk limit is used, not avoided
+}
+
+// A blend's speed term v³κ² runs along its tangent (j = (j_t − v³κ²)·T + 3·v·a_t·κ·N on a circle),
+// so each axis caps it by its own tangent share: X, carrying the tangent of a shallow corner with a
+// soft jerk (2 000 mm/s³ against Y's 100 000), keeps v³κ²·|T_x| within its fifth of j_x. Capped by
+// its normal share instead (until 2026-12-03), X's share was 1/sin(sweep) times too large: 10×.
+TEST(PlannerJerk, BlendsCapTheirSpeedTermByTheTangentShare) {
+  auto lim = jerk_limits(200, 1000, 2000);
+  lim.axis[1].j_max_mm_s3 = 100'000;
+  lim.axis[1].a_max_mm_s2 = 5000;
+  for (const double sweep : {0.02, 0.1, 0.5}) {
+    for (const double r : {0.2, 1.0, 5.0}) {
+      const BlendArc b = make_blend_arc(xyz(0, 0), xyz(1, 0), xyz(std::cos(sweep), std::sin(sweep)), r, sweep);
+      const SegmentLimits sl = blend_limits(b, lim);
+      const double v = sl.v_max_mm_s, k = 1 / r;
+      EXPECT_LE(v * v * v * k * k, 0.2 * 2000 * (1 + 1e-12)) << sweep << " " << r;  // |T_x| ≥ cos(sweep) ≈ 1
+      EXPECT_GE(v * v * v * k * k, 0.2 * 2000 * (1 - 1e-9) * std::cos(sweep) * std::cos(sweep))
+          << sweep << " " << r;  // and is the binding cap
+    }
+  }
 }
 
 // A curvature step at a plane circle's end (jerk_left_by_step): the circle's shares are scaled to
