@@ -40,7 +40,7 @@ ProgrammedPath programmed_path(const program::Program& prog) {
   return pp;
 }
 
-double ProgrammedPath::deviation_mm(const core::Vec& p, std::uint32_t tag, std::uint32_t tag_last, bool moving) const {
+double ProgrammedPath::deviation_mm(const core::Vec& p, std::uint32_t tag, std::uint32_t tag_last, bool moving, double enough) const {
   if (tag >= before.size()) return core::distance(p, end);
   if (moving && move_of[tag]) {
     // Every piece of the instructions (a curve has several), and one motion on either side.
@@ -48,8 +48,8 @@ double ProgrammedPath::deviation_mm(const core::Vec& p, std::uint32_t tag, std::
     std::size_t last = first;
     while (last + 1 < moves.size() && moves[last + 1].instruction <= std::max(tag, tag_last)) ++last;
     double d = std::numeric_limits<double>::infinity();
-    for (std::size_t m = first > 0 ? first - 1 : 0; m <= std::min(last + 1, moves.size() - 1); ++m)
-      d = std::min(d, moves[m].segment.distance_to(p));
+    for (std::size_t m = first > 0 ? first - 1 : 0; d > enough && m <= std::min(last + 1, moves.size() - 1); ++m)
+      d = std::min(d, moves[m].segment.distance_to(p, enough));
     return d;
   }
   // At rest: where the instruction began or ended; a merged line ends where its last one does.

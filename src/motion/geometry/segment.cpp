@@ -133,15 +133,18 @@ Vec Segment::curvature(double s) const {
   return k;
 }
 
-double Segment::distance_to(const Vec& p) const {
+double Segment::distance_to(const Vec& p, double enough) const {
   if (kind == SegmentKind::Line) {
     if (length <= 0) return core::distance(p, start);
     const double t = std::clamp(core::dot(p - start, dir), 0.0, length);
     return core::distance(p, start + dir * t);
   }
   if (kind == SegmentKind::Poly) return poly.distance_to(p);
-  // Arc/helix: the parameter is found from the in-plane angle, unwrapped to the nearest turn of the
-  // sweep, then refined with a few Newton steps on the squared distance (helix pitch couples them).
+  // Arc/helix: the parameter is found from the in-plane angle, unwrapped to each turn of the sweep,
+  // then refined by Newton steps on the squared distance (helix pitch couples them). Every candidate
+  // is a point of the curve, so the answer is never below the true distance. On a helix the nearest
+  // point can lie far from p's angle (or inside the sweep while that angle is outside it), so Newton
+  // also starts from both ends and from where the linear axes match p's.
   constexpr double kTwoPi = 2 * std::numbers::pi;
   const double ang = std::atan2(p[axis1] - c1, p[axis0] - c0);
   double best = std::min(core::distance(p, start), core::distance(p, end));
@@ -149,18 +152,33 @@ double Segment::distance_to(const Vec& p) const {
   double base = ang - theta0;
   base -= kTwoPi * std::floor((base - lo) / kTwoPi);  // in [lo, lo + 2π)
   // A circle in its plane (no spiral, no helix): the point at p's angle is the nearest, exactly.
-  const bool circle = dradius == 0 && core::dot(linear, linear) == 0;
-  for (double rel = base; rel <= hi + 1e-12; rel += kTwoPi) {
-    double s = length * (rel / sweep);
-    for (int it = 0; it < (circle ? 0 : 4); ++it) {  // Newton on f(s) = (P(s) - p)·T(s)
-      const Vec d = point(s) - p;
-      const double f = core::dot(d, tangent(s));
-      const double df = 1.0 + core::dot(d, curvature(s));
-      if (std::abs(df) < 1e-12) break;
-      s = std::clamp(s - f / df, 0.0, length);
+  const double lin2 = core::dot(linear, linear);
+  const bool circle = dradius == 0 && lin2 == 0;
+  const auto refine = [&](double s) {  // true: done (best ≤ enough)
+    for (int it = 0; it < 12; ++it) {  // Newton on f(s) = (P(s) - p)·T(s)
+      const CurveFrame fr = frame(s);
+      const Vec d = fr.point - p;
+      best = std::min(best, core::norm(d));
+      if (best <= enough) return true;
+      const double f = core::dot(d, fr.tangent);
+      const double df = 1.0 + core::dot(d, fr.curvature);
+      if (!(df > 1e-12)) return false;  // not towards a minimum from here
+      const double next = std::clamp(s - f / df, 0.0, length);
+      if (std::abs(next - s) <= 1e-15 * length) break;
+      s = next;
     }
     best = std::min(best, core::distance(p, point(s)));
+    return best <= enough;
+  };
+  if (circle) {
+    for (double rel = base; rel <= hi + 1e-12; rel += kTwoPi) best = std::min(best, core::distance(p, point(length * (rel / sweep))));
+    return best;
   }
+  if (best <= enough) return best;
+  for (double rel = base; rel <= hi + 1e-12; rel += kTwoPi)
+    if (refine(length * (rel / sweep))) return best;
+  if (refine(0) || refine(length)) return best;
+  if (lin2 > 0) refine(std::clamp(core::dot(p - start, linear) / lin2, 0.0, length));
   return best;
 }
 

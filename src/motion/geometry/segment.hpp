@@ -58,8 +58,10 @@ struct Segment {
   Vec tangent(double s) const;
   // Curvature vector d(tangent)/ds at s (zero for lines); |k| = 1/R for a planar arc.
   Vec curvature(double s) const;
-  // Distance of p from this segment's curve (for accuracy reports; not rt-critical).
-  double distance_to(const Vec& p) const;
+  // Distance of p from this segment's curve (for accuracy reports; not rt-critical). A caller that
+  // only needs to know whether it exceeds `enough` (a largest deviation so far) gets some distance
+  // to a point of the curve at or below `enough` as soon as one is found.
+  double distance_to(const Vec& p, double enough = 0) const;
   // Axis-aligned bounding box of the whole curve (arcs: including their extreme points). rt-safe.
   void bounds(Vec& lo, Vec& hi) const;
 

@@ -86,3 +86,33 @@ TEST(GeometryPlanes, G19_HelixMovesXLinearly) {
   EXPECT_NEAR(q[kX], -0.75, 1e-12);
   EXPECT_NEAR(core::norm(h.curvature(1.0)), 10 * std::pow(4 * std::numbers::pi / h.length, 2), 1e-12);
 }
+
+// The distance from a point to a helix (softmc run's deviation report, the tests' trace checker):
+// on a helix steeper than its radius the nearest point can lie far from the point's in-plane angle,
+// or inside the sweep while that angle is outside it. A point 0.05 mm off a helix across its
+// tangent (along the normal or the binormal, which on a steep helix turns the in-plane angle) is at
+// most 0.05 mm from it, wherever it is along it: the point it was moved from is on the curve. Before
+// (2026-12-03) a point near a steep helix's start with its angle before the sweep got the distance
+// to the ends alone (0.3 mm in a random chain). Along the normal, the distance is exactly 0.05.
+TEST(GeometryPlanes, DistanceToSteepHelicesFindsTheNearestPoint) {
+  int tight = 0;
+  for (const double rise : {0.5, 5.0, 30.0}) {
+    for (const double sweep : {0.3, 2.0, 6.25}) {
+      const double r = 2;
+      const auto h = make_arc(xyz(r, 0, 0), xyz(r * std::cos(sweep), r * std::sin(sweep), rise), kX, kY, 0, 0, 1);
+      ASSERT_NEAR(h.sweep, sweep, 1e-12);
+      for (int i = 0; i <= 40; ++i) {
+        const double s = h.length * (i / 40.0);
+        const core::Vec t = h.tangent(s), n = h.curvature(s) * (1 / core::norm(h.curvature(s)));
+        const core::Vec b = xyz(t[1] * n[2] - t[2] * n[1], t[2] * n[0] - t[0] * n[2], t[0] * n[1] - t[1] * n[0]);
+        for (const double off : {0.05, -0.05}) {
+          EXPECT_NEAR(h.distance_to(h.point(s) + n * off), 0.05, 1e-9) << rise << " " << sweep << " " << s;
+          const double d = h.distance_to(h.point(s) + b * off);
+          EXPECT_LE(d, 0.05 + 1e-12) << rise << " " << sweep << " " << s;
+          tight += d > 0.0499;
+        }
+      }
+    }
+  }
+  EXPECT_GT(tight, 300);  // the binormal offsets too are mostly at 0.05: nothing else is nearer
+}

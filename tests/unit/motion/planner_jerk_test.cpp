@@ -1143,6 +1143,44 @@ TEST(PlannerJerk, RandomTangentChainsOfLinesAndArcsKeepTheLimits) {
   expect_random_jerk_paths(300, {0.0, 0.01, 0.05, 0.2}, tangent_chain);
 }
 
+// Seeded chains of helices in the xy, xz and yz planes, steep ones (a rise of up to eight radii per
+// turn, inplane down to 0.12) among shallow ones, joined by lines and corners, on axes with uneven
+// jerks: every axis within its speed, acceleration and jerk (the in-plane speed term v³κ²/inplane,
+// SteepHelicesKeepTheInPlaneAxesJerk), every setpoint within P.
+TEST(PlannerJerk, RandomHelixChainsInEveryPlaneKeepTheLimits) {
+  constexpr std::uint8_t kPlanes[3][3] = {{0, 1, 2}, {2, 0, 1}, {1, 2, 0}};
+  expect_random_jerk_paths(200, {0.0, 0.01, 0.05, 0.2}, [&](std::mt19937_64& rng, std::uniform_real_distribution<double>& u, double tol) {
+    std::vector<PathRequest> reqs;
+    core::Vec at = xyz(0, 0, 0);
+    const int n = 3 + static_cast<int>(rng() % 12);
+    for (int k = 0; k < n; ++k) {
+      PathRequest r;
+      r.feed_mm_s = 5 + 400 * u(rng);
+      r.tag = static_cast<std::uint32_t>(k);
+      r.tolerance_mm = tol;
+      if (rng() % 3 == 0) {
+        core::Vec to = at;
+        for (int i = 0; i < 3; ++i) to[i] += (u(rng) - 0.5) * (rng() % 3 == 0 ? 0.1 : 20);
+        r.geom = make_line(at, to);
+      } else {
+        const auto& pl = kPlanes[rng() % 3];
+        const double rad = 0.3 + 8 * u(rng), ang = 2 * std::numbers::pi * u(rng);
+        const double c0 = at[pl[0]] - rad * std::cos(ang), c1 = at[pl[1]] - rad * std::sin(ang);
+        const double sweep = 0.3 + 6 * u(rng), dir = rng() % 2 ? 1.0 : -1.0;
+        core::Vec to = at;
+        to[pl[0]] = c0 + rad * std::cos(ang + dir * sweep);
+        to[pl[1]] = c1 + rad * std::sin(ang + dir * sweep);
+        const double pitch = rng() % 2 ? 8 * u(rng) : 0.3 * u(rng);  // rise per radian, in radii
+        to[pl[2]] += (u(rng) < 0.5 ? -1 : 1) * pitch * rad * sweep;
+        r.geom = make_arc(at, to, pl[0], pl[1], c0, c1, dir > 0 ? 1 : -1);
+      }
+      reqs.push_back(r);
+      at = r.geom.end;
+    }
+    return reqs;
+  });
+}
+
 // The fallback brake the interpolator keeps (the plain certificate's ramp to rest, or the gated
 // one: ramp to a gate's speed, then to rest from past the gate) is only run for a cycle or two in
 // normal runs. Refusing every candidate from a chosen cycle on (InterpolatorConfig::

@@ -66,12 +66,14 @@ class TraceChecker {
     }
     if (!path_.empty()) {
       const std::size_t k = std::min<std::size_t>(tag, path_.size() - 1);
-      double d = path_[k].distance_to(pos);
-      for (std::size_t m = (k >= 2 ? k - 2 : 0); m <= std::min(path_.size() - 1, k + 2); ++m)
-        d = std::min(d, path_[m].distance_to(pos));
-      if (d > f_.deviation_mm) {
+      // Only whether it is beyond the largest so far matters: a point at or below it ends the search.
+      const double enough = f_.deviation_mm;
+      double d = path_[k].distance_to(pos, enough);
+      for (std::size_t m = (k >= 2 ? k - 2 : 0); d > enough && m <= std::min(path_.size() - 1, k + 2); ++m)
+        d = std::min(d, path_[m].distance_to(pos, enough));
+      if (d > enough) {
         double all = d;  // a blend may carry a neighbour's tag: look at the whole path before blaming
-        for (const auto& seg : path_) all = std::min(all, seg.distance_to(pos));
+        for (std::size_t m = 0; all > enough && m < path_.size(); ++m) all = std::min(all, path_[m].distance_to(pos, enough));
         d = all;
       }
       if (d > f_.deviation_mm) f_.dev_sample = n_, f_.dev_tag = tag;
