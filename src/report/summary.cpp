@@ -54,7 +54,7 @@ Summary summarize(const program::Program& prog, const machine::MachineConfig& cf
   const double dt = trace.period_s;
   for (std::size_t r = 0; r < rows.size(); ++r) {
     const TraceRow& row = rows[r];
-    s.max_path_deviation_mm = std::max(s.max_path_deviation_mm, path.deviation_mm(row.cmd, row.tag, row.tag_last, row.moving));
+    s.max_path_deviation_mm = std::max(s.max_path_deviation_mm, path.deviation_mm(row.cmd, row.tag, row.tag_last, row.moving, s.max_path_deviation_mm));
     s.max_path_speed_mm_s = std::max(s.max_path_speed_mm_s, row.path_v);
     for_each_axis(trace.axes, [&](std::size_t i) {
       AxisSummary& a = s.axis[i];
@@ -65,6 +65,10 @@ Summary summarize(const program::Program& prog, const machine::MachineConfig& cf
       if (r >= 2) {
         const double d2 = row.cmd[i] - 2 * rows[r - 1].cmd[i] + rows[r - 2].cmd[i];
         a.max_acc_mm_s2 = std::max(a.max_acc_mm_s2, std::abs(d2) / (dt * dt));
+      }
+      if (r >= 3) {
+        const double d3 = row.cmd[i] - 3 * rows[r - 1].cmd[i] + 3 * rows[r - 2].cmd[i] - rows[r - 3].cmd[i];
+        a.max_jerk_mm_s3 = std::max(a.max_jerk_mm_s3, std::abs(d3) / (dt * dt * dt));
       }
     });
   }
@@ -90,12 +94,12 @@ std::string to_text(const Summary& s) {
   line("path speed", fmt::format("{:.3f} mm/s max", s.max_path_speed_mm_s));
   line("deviation", fmt::format("{:.6f} mm max (setpoints from the programmed path)", s.max_path_deviation_mm));
   line("foll. error", fmt::format("{:.6f} mm max", s.max_following_error_mm));
-  fmt::format_to(std::back_inserter(out), "{:<13}{:>14}{:>16}{:>14}\n", "axis", "max vel mm/s", "max acc mm/s²",
-                 "max ferr mm");
+  fmt::format_to(std::back_inserter(out), "{:<13}{:>14}{:>16}{:>18}{:>14}\n", "axis", "max vel mm/s", "max acc mm/s²",
+                 "max jerk mm/s³", "max ferr mm");
   for_each_axis(s.axes, [&](std::size_t i) {
     const auto& a = s.axis[i];
-    fmt::format_to(std::back_inserter(out), "  {:<11}{:>14.3f}{:>16.1f}{:>14.6f}\n", core::letter(i), a.max_vel_mm_s,
-                   a.max_acc_mm_s2, a.max_following_error_mm);
+    fmt::format_to(std::back_inserter(out), "  {:<11}{:>14.3f}{:>16.1f}{:>18.0f}{:>14.6f}\n", core::letter(i), a.max_vel_mm_s,
+                   a.max_acc_mm_s2, a.max_jerk_mm_s3, a.max_following_error_mm);
   });
   return out;
 }
@@ -122,6 +126,7 @@ std::string to_json(const Summary& s) {
     ja["max_vel_mm_s"] = a.max_vel_mm_s;
     ja["max_acc_mm_s2"] = a.max_acc_mm_s2;
     ja["max_following_error_mm"] = a.max_following_error_mm;
+    ja["max_jerk_mm_s3"] = a.max_jerk_mm_s3;  // added 2026-12-03: new fields go at the end (docs/cli.md)
     axes[std::string(1, lower_letter(i))] = std::move(ja);
   });
   j["axes"] = std::move(axes);

@@ -13,6 +13,7 @@ namespace softmc::report {
 struct AxisSummary {
   double max_vel_mm_s = 0;            // largest |Δcmd/Δt| in the trace
   double max_acc_mm_s2 = 0;           // largest |Δ²cmd/Δt²|
+  double max_jerk_mm_s3 = 0;          // largest |Δ³cmd/Δt³|
   double max_following_error_mm = 0;  // largest |cmd − act|
 };
 

@@ -108,7 +108,10 @@ TEST(Run, GcodeExamplesRunOnTheRouter) {
     for (const auto& a : cfg.axes) {
       EXPECT_LE(s.axis[a.index].max_vel_mm_s, a.max_vel_mm_s * (1 + 1e-6)) << f << " axis " << a.name;
       EXPECT_LE(s.axis[a.index].max_acc_mm_s2, a.max_acc_mm_s2 * (1 + 1e-3)) << f << " axis " << a.name;
+      if (a.max_jerk_mm_s3 > 0)  // the summary's jerk: third differences of the setpoints
+        EXPECT_LE(s.axis[a.index].max_jerk_mm_s3, a.max_jerk_mm_s3 * (1 + 1e-4)) << f << " axis " << a.name;
     }
+    EXPECT_GT(s.axis[0].max_jerk_mm_s3, 0.5 * cfg.axes[0].max_jerk_mm_s3) << f;  // used, not avoided
   }
 }
 
@@ -134,4 +137,23 @@ TEST(Run, G5AndG5_2CurvesRunOnTheCurveWithinTheLimits) {
     EXPECT_LE(s.axis[a.index].max_vel_mm_s, a.max_vel_mm_s * (1 + 1e-6)) << a.name;
     EXPECT_LE(s.axis[a.index].max_acc_mm_s2, a.max_acc_mm_s2 * (1 + 1e-3)) << a.name;
   }
+}
+
+// Helices in the three planes, two of them steeper than their radius, blended within P (G64 P0.05):
+// the run's reported deviation (report::summarize, Segment::distance_to) is the distance to the
+// programmed helices, within P, and the corners are blended, not stopped at. (The distance's own
+// cases near a steep helix's ends: GeometryPlanes.DistanceToSteepHelicesFindsTheNearestPoint.)
+TEST(Run, SteepHelicesReportTheirDeviationWithinP) {
+  const auto cfg = machine::default_machine();
+  auto r = program::iso::parse(
+      "G21 G90 G64 P0.05\nG0 X60 Y50 Z50\nF3000\nG19 G2 X51 Y50.0031 Z49.796 J6.8 K0\n"
+      "G17 G3 X54.6343 Y49.4195 Z77.796 I2.8714 J6.2742\nG18 G2 X54.4089 Y29.4195 Z80.0433 I-1.7552 K0.9589\nM30\n",
+      "helices.ngc");
+  for (const auto& d : r.diagnostics) ADD_FAILURE() << d.format();
+  ASSERT_TRUE(r.program);
+  const auto res = app::simulate(*r.program, cfg);
+  ASSERT_TRUE(res.ok) << res.result;
+  const auto s = report::summarize(*r.program, cfg, res.trace);
+  EXPECT_LE(s.max_path_deviation_mm, 0.05 + 1e-9);
+  EXPECT_GT(s.max_path_deviation_mm, 0.001);  // the corners are blended, not stopped at
 }

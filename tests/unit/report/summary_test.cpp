@@ -111,6 +111,32 @@ TEST(Summary, StandstillIsMeasuredFromWhereTheMachineShouldStand) {
   EXPECT_NEAR(s.max_path_deviation_mm, 0.25, 1e-9);
 }
 
+// x(t) = j·t³/6 sampled at t = k·dt: every third difference is j·dt³, so the summary's jerk is j
+// (and no jerk on an axis that does not move, nor from a parabola: its third differences are 0).
+TEST(Summary, JerkFromACubicMotion) {
+  constexpr double j = 30'000, dt = 0.001;
+  constexpr int n = 300;
+  program::Program prog;
+  prog.start = xy(0, 5);
+  prog.instructions = {ins(program::Linear{xy(j * (n * dt) * (n * dt) * (n * dt) / 6, 5), 100})};
+  Trace tr;
+  tr.period_s = dt;
+  tr.axes = core::axis_bit(0) | core::axis_bit(1);
+  for (int k = 0; k <= n; ++k) {
+    TraceRow r;
+    r.t_s = k * dt;
+    const double t = k * dt;
+    r.cmd = xy(j * t * t * t / 6, 5 + 100 * t * t);
+    r.act = r.cmd;
+    r.moving = true;
+    tr.rows.push_back(r);
+  }
+  const auto s = summarize(prog, test_table(), tr);
+  EXPECT_NEAR(s.axis[0].max_jerk_mm_s3, j, 1e-3);
+  EXPECT_LT(s.axis[1].max_jerk_mm_s3, 1e-3);
+  EXPECT_NE(to_text(s).find("max jerk mm/s³"), std::string::npos);
+}
+
 // x(t) = a·t²/2 sampled at t = k·dt, k = 0..n: the last step has speed a·dt·(n − ½) and every
 // second difference is a·dt².
 TEST(Summary, VelocityAndAccelerationFromAQuadraticMotion) {
@@ -200,7 +226,8 @@ TEST(Summary, JsonHasEveryFieldWithItsValue) {
     EXPECT_DOUBLE_EQ(axes[a]["max_vel_mm_s"].get<double>(), s.axis[i].max_vel_mm_s);
     EXPECT_DOUBLE_EQ(axes[a]["max_acc_mm_s2"].get<double>(), s.axis[i].max_acc_mm_s2);
     EXPECT_DOUBLE_EQ(axes[a]["max_following_error_mm"].get<double>(), s.axis[i].max_following_error_mm);
-    EXPECT_EQ(axes[a].size(), 3u);
+    EXPECT_DOUBLE_EQ(axes[a]["max_jerk_mm_s3"].get<double>(), s.axis[i].max_jerk_mm_s3);
+    EXPECT_EQ(axes[a].size(), 4u);
   }
   EXPECT_NEAR(axes["x"]["max_following_error_mm"].get<double>(), 0.03, 1e-12);
 }
@@ -211,6 +238,13 @@ TEST(Summary, JsonFieldOrderIsTheDocumentedOne) {
   EXPECT_LT(js.find("\"cycles\""), js.find("\"cut_mm\""));
   EXPECT_LT(js.find("\"max_path_speed_mm_s\""), js.find("\"axes\""));
   EXPECT_NE(js.find("\"axes\":{}"), std::string::npos) << js;
+  // Within an axis too: max_jerk_mm_s3, added later, comes last (new fields go at the end).
+  Summary one;
+  one.axes = core::axis_bit(0);
+  const std::string ja = to_json(one);
+  EXPECT_LT(ja.find("\"max_vel_mm_s\""), ja.find("\"max_acc_mm_s2\""));
+  EXPECT_LT(ja.find("\"max_following_error_mm\""), ja.find("\"max_jerk_mm_s3\""));
+  EXPECT_NE(ja.find("\"max_jerk_mm_s3\":0.0}}"), std::string::npos) << ja;
 }
 
 TEST(Summary, JsonSurvivesAFaultMessageThatIsNotUtf8) {
