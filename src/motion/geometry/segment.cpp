@@ -155,13 +155,15 @@ double Segment::distance_to(const Vec& p, double enough) const {
   const double lin2 = core::dot(linear, linear);
   const bool circle = dradius == 0 && lin2 == 0;
   const auto refine = [&](double s) {  // true: done (best ≤ enough)
-    for (int it = 0; it < 12; ++it) {  // Newton on f(s) = (P(s) - p)·T(s)
+    for (int it = 0; it < 12; ++it) {  // Newton on f(s) = (P(s) - p)·P'(s)
       const CurveFrame fr = frame(s);
       const Vec d = fr.point - p;
       best = std::min(best, core::norm(d));
       if (best <= enough) return true;
       const double f = core::dot(d, fr.tangent);
-      const double df = 1.0 + core::dot(d, fr.curvature);
+      // f' = |P'|² + (P − p)·P'': a spiral's s is not its arc length, |P'| ≠ 1 (with 1 here Newton
+      // converged only linearly and could stop microns short within its 12 steps; a review's find).
+      const double df = core::dot(fr.tangent, fr.tangent) + core::dot(d, fr.curvature);
       if (!(df > 1e-12)) return false;  // not towards a minimum from here
       const double next = std::clamp(s - f / df, 0.0, length);
       if (std::abs(next - s) <= 1e-15 * length) break;

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <random>
 
 #include "motion/geometry/segment.hpp"
 
@@ -115,4 +116,47 @@ TEST(GeometryPlanes, DistanceToSteepHelicesFindsTheNearestPoint) {
     }
   }
   EXPECT_GT(tight, 300);  // the binormal offsets too are mostly at 0.05: nothing else is nearer
+}
+
+// Strong spirals (the end radius 0.2 to 1.7 times the start's), with and without a rise: s is not
+// their arc length (|P'| ≠ 1), and Newton's derivative must use |P'|², or it converges linearly and
+// stops short (up to 4.9 µm over the true distance in a review's 12 000 cases). Against a dense
+// sampling refined by golden sections: never below it, and above it by rounding only.
+TEST(GeometryPlanes, DistanceToStrongSpiralsIsTheNearestPoint) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0, 1);
+  int checked = 0;
+  for (int t = 0; t < 150; ++t) {
+    const double r0 = 0.5 + 5 * u(rng), r1 = r0 * (0.2 + 1.5 * u(rng)), th0 = 6.283 * u(rng);
+    const double sweep = (u(rng) * 2 - 1) * 9, rise = t % 2 ? 0.0 : 3 * r0 * (u(rng) * 2 - 1);
+    const int turns = (sweep < 0 ? -1 : 1) * (static_cast<int>(std::abs(sweep) / 6.283185307179586) + 1);
+    const auto g = make_arc(xyz(r0 * std::cos(th0), r0 * std::sin(th0), 1),
+                            xyz(r1 * std::cos(th0 + sweep), r1 * std::sin(th0 + sweep), 1 + rise), kX, kY, 0, 0, turns);
+    for (int q = 0; q < 4; ++q) {
+      core::Vec p = g.point(g.length * u(rng));
+      const double off = std::min(0.2, r0 * std::pow(10, -3 + 2 * u(rng)));
+      for (int i = 0; i < 3; ++i) p[i] += off * (2 * u(rng) - 1);
+      constexpr int kN = 20000;
+      int k_best = 0;
+      double brute = 1e300;
+      for (int k = 0; k <= kN; ++k) {
+        const double d = core::distance(p, g.point(g.length * k / kN));
+        if (d < brute) brute = d, k_best = k;
+      }
+      double lo = g.length * std::max(0, k_best - 1) / kN, hi = g.length * std::min(kN, k_best + 1) / kN;
+      for (int it = 0; it < 100; ++it) {
+        const double m1 = lo + (hi - lo) / 3, m2 = hi - (hi - lo) / 3;
+        if (core::distance(p, g.point(m1)) < core::distance(p, g.point(m2)))
+          hi = m2;
+        else
+          lo = m1;
+      }
+      brute = std::min(brute, core::distance(p, g.point(0.5 * (lo + hi))));
+      const double d = g.distance_to(p);
+      EXPECT_LE(d, brute + 1e-9) << "case " << t << " point " << q;
+      EXPECT_GE(d, brute - 1e-9) << "case " << t << " point " << q;
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 600);
 }
