@@ -140,6 +140,7 @@ class Interpolator {
   GuardVerdict cert_;
   StopPlan stop_plan_;  // the position-mode stop candidate, kept while it is taken cycle after cycle
   std::uint64_t jerk_cycles_ = 0, guard_simulations_ = 0, guard_verifies_ = 0;
+  std::uint32_t rest_cycles_ = 0;  // jerk mode: cycles in a row that ended at rest without moving
   Inputs in_;
   double override_ = 1;
   bool hold_ = false, enable_ = true, stopped_ = false;

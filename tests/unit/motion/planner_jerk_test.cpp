@@ -1181,6 +1181,33 @@ TEST(PlannerJerk, RandomHelixChainsInEveryPlaneKeepTheLimits) {
   });
 }
 
+// A review's exploration (2026-12-03) found runs that came to rest a few nanometres short of an
+// exact stop and never moved again: three xz arcs on a soft Z (j 235 mm/s³) at 1 ms, P 0.01.
+TEST(PlannerJerk, RestJustShortOfAStopMovesOnToIt) {
+  MachineLimits lim;
+  lim.axis[0] = {94.938398689346215, 5044.821742683017, 97940.832588854915, -1000, 1000};
+  lim.axis[1] = {220.92991096911626, 2140.4241800586415, 98412.312630735789, -1000, 1000};
+  lim.axis[2] = {216.75416046650008, 40.807252091490462, 234.65166787838152, -1000, 1000};
+  lim.period_s = 0.001;
+  std::vector<PathRequest> reqs;
+  const auto add = [&](const Segment& g, double feed) {
+    PathRequest r;
+    r.geom = g;
+    r.feed_mm_s = feed;
+    r.tag = static_cast<std::uint32_t>(reqs.size());
+    r.tolerance_mm = 0.01;
+    reqs.push_back(r);
+  };
+  const core::Vec p1 = xyz(-0.1542524456310872, 0, 0.14196536564845641), p2 = xyz(-5.6657818944876919, 0, 3.8839253791524868);
+  add(make_arc(xyz(0, 0, 0), p1, 0, 2, 0.86854244990662011, 1.0984988298633216, -1), 37.496440696477727);
+  add(make_arc(p1, p2, 0, 2, -11.182934909921737, -10.172227528076979, 1), 50.208423097069236);
+  add(make_arc(p2, xyz(-11.428825326992172, 0, 5.3016686440107357), 0, 2, -13.853167002940967, -16.975227280353536, 1),
+      91.318777068499557);
+  const auto res = run_path(lim, reqs, 3, {}, {}, 200'000);
+  expect_within(res, 0.01, "three xz arcs");
+  EXPECT_EQ(res.end, reqs.back().geom.end);
+}
+
 // The fallback brake the interpolator keeps (the plain certificate's ramp to rest, or the gated
 // one: ramp to a gate's speed, then to rest from past the gate) is only run for a cycle or two in
 // normal runs. Refusing every candidate from a chosen cycle on (InterpolatorConfig::
