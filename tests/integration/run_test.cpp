@@ -19,6 +19,25 @@ program::Program load(const std::string& rel) {
   EXPECT_TRUE(r.program);
   return r.program ? *r.program : program::Program{};
 }
+
+// A program given as text, run on the built-in table: the program, the run and its summary.
+struct SourceRun {
+  program::Program prog;
+  app::SimResult res;
+  report::Summary sum;
+};
+SourceRun run_source(const std::string& text, const std::string& name, const machine::MachineConfig& cfg) {
+  SourceRun out;
+  auto r = program::iso::parse(text, name);
+  for (const auto& d : r.diagnostics) ADD_FAILURE() << d.format();
+  EXPECT_TRUE(r.program);
+  if (!r.program) return out;
+  out.prog = *r.program;
+  out.res = app::simulate(out.prog, cfg);
+  EXPECT_TRUE(out.res.ok) << out.res.result;
+  out.sum = report::summarize(out.prog, cfg, out.res.trace);
+  return out;
+}
 }  // namespace
 
 TEST(Run, T3_RoundedRectangleEndsWhereItStarted) {
@@ -119,15 +138,13 @@ TEST(Run, G5AndG5_2CurvesRunOnTheCurveWithinTheLimits) {
   // A G5 cubic, a G5.1 quadratic and a G5.2 NURBS, run exactly as programmed (G61: no blends), so
   // every setpoint must lie on the programmed curves.
   const auto cfg = machine::default_machine();
-  auto r = program::iso::parse(
+  const auto run = run_source(
       "G21 G90 G17 G61\nG0 X10 Y10\nF600\nG5 I10 J0 P-10 Q0 X40 Y30\nG5.1 I10 J-20 X60 Y20\n"
       "G5.2 X60 Y40 P1 L3\nX80 Y40 P2\nX80 Y20 P1\nG5.3\nM30\n",
-      "curves.ngc");
-  for (const auto& d : r.diagnostics) ADD_FAILURE() << d.format();
-  ASSERT_TRUE(r.program);
-  const auto res = app::simulate(*r.program, cfg);
-  ASSERT_TRUE(res.ok) << res.result;
-  const auto s = report::summarize(*r.program, cfg, res.trace);
+      "curves.ngc", cfg);
+  ASSERT_TRUE(run.res.ok);
+  const auto& res = run.res;
+  const auto& s = run.sum;
   EXPECT_LT(s.max_path_deviation_mm, 1e-6);
   EXPECT_GT(s.feed_mm, 60.0);  // the curves were really cut, not skipped
   const auto& last = res.trace.rows.back();
@@ -144,16 +161,12 @@ TEST(Run, G5AndG5_2CurvesRunOnTheCurveWithinTheLimits) {
 // programmed helices, within P, and the corners are blended, not stopped at. (The distance's own
 // cases near a steep helix's ends: GeometryPlanes.DistanceToSteepHelicesFindsTheNearestPoint.)
 TEST(Run, SteepHelicesReportTheirDeviationWithinP) {
-  const auto cfg = machine::default_machine();
-  auto r = program::iso::parse(
+  const auto run = run_source(
       "G21 G90 G64 P0.05\nG0 X60 Y50 Z50\nF3000\nG19 G2 X51 Y50.0031 Z49.796 J6.8 K0\n"
       "G17 G3 X54.6343 Y49.4195 Z77.796 I2.8714 J6.2742\nG18 G2 X54.4089 Y29.4195 Z80.0433 I-1.7552 K0.9589\nM30\n",
-      "helices.ngc");
-  for (const auto& d : r.diagnostics) ADD_FAILURE() << d.format();
-  ASSERT_TRUE(r.program);
-  const auto res = app::simulate(*r.program, cfg);
-  ASSERT_TRUE(res.ok) << res.result;
-  const auto s = report::summarize(*r.program, cfg, res.trace);
+      "helices.ngc", machine::default_machine());
+  ASSERT_TRUE(run.res.ok);
+  const auto& s = run.sum;
   EXPECT_LE(s.max_path_deviation_mm, 0.05 + 1e-9);
   EXPECT_GT(s.max_path_deviation_mm, 0.001);  // the corners are blended, not stopped at
 }

@@ -97,6 +97,24 @@ static MachineLimits random_jerk_limits(std::mt19937_64& rng, std::uniform_real_
   return lim;
 }
 
+// A chain of n requests from the origin, each from where the last one ended, tagged 0..n−1 with
+// tolerance tol: draw(k, at, before, r) sets the k-th one's geometry and feed (`before`: the
+// requests so far).
+template <typename Draw>
+static std::vector<PathRequest> chain(int n, double tol, Draw draw) {
+  std::vector<PathRequest> reqs;
+  core::Vec at = xyz(0, 0, 0);
+  for (int k = 0; k < n; ++k) {
+    PathRequest r;
+    r.tag = static_cast<std::uint32_t>(k);
+    r.tolerance_mm = tol;
+    draw(k, at, reqs, r);
+    reqs.push_back(r);
+    at = r.geom.end;
+  }
+  return reqs;
+}
+
 // Seeded random paths with random per-axis limits (speed, acceleration, jerk) and a tolerance
 // drawn from `tols`: `make` draws the path; every setpoint must keep every axis's limits and P, and
 // the end must be exact.
@@ -128,14 +146,9 @@ static void expect_random_jerk_paths(std::uint64_t seeds, std::initializer_list<
 // docs/planner.md "Jerk".)
 TEST(PlannerJerk, RandomPathsKeepSpeedAccelerationJerkAndTolerance) {
   expect_random_jerk_paths(300, {0.0, 0.01, 0.1, 1.0}, [](std::mt19937_64& rng, std::uniform_real_distribution<double>& u, double tol) {
-    std::vector<PathRequest> reqs;
-    core::Vec at = xyz(0, 0, 0);
     const int n = 3 + static_cast<int>(rng() % 25);
-    for (int k = 0; k < n; ++k) {
-      PathRequest r;
+    return chain(n, tol, [&](int k, const core::Vec& at, const std::vector<PathRequest>& reqs, PathRequest& r) {
       r.feed_mm_s = 1 + 300 * u(rng);
-      r.tag = static_cast<std::uint32_t>(k);
-      r.tolerance_mm = tol;
       r.rapid = rng() % 10 == 0;
       core::Vec to = at;
       switch (rng() % 5) {
@@ -162,10 +175,7 @@ TEST(PlannerJerk, RandomPathsKeepSpeedAccelerationJerkAndTolerance) {
           r.geom = make_line(at, to);
           break;
       }
-      reqs.push_back(r);
-      at = r.geom.end;
-    }
-    return reqs;
+    });
   });
 }
 
@@ -1150,14 +1160,9 @@ TEST(PlannerJerk, RandomTangentChainsOfLinesAndArcsKeepTheLimits) {
 TEST(PlannerJerk, RandomHelixChainsInEveryPlaneKeepTheLimits) {
   constexpr std::uint8_t kPlanes[3][3] = {{0, 1, 2}, {2, 0, 1}, {1, 2, 0}};
   expect_random_jerk_paths(200, {0.0, 0.01, 0.05, 0.2}, [&](std::mt19937_64& rng, std::uniform_real_distribution<double>& u, double tol) {
-    std::vector<PathRequest> reqs;
-    core::Vec at = xyz(0, 0, 0);
     const int n = 3 + static_cast<int>(rng() % 12);
-    for (int k = 0; k < n; ++k) {
-      PathRequest r;
+    return chain(n, tol, [&](int, const core::Vec& at, const std::vector<PathRequest>&, PathRequest& r) {
       r.feed_mm_s = 5 + 400 * u(rng);
-      r.tag = static_cast<std::uint32_t>(k);
-      r.tolerance_mm = tol;
       if (rng() % 3 == 0) {
         core::Vec to = at;
         for (int i = 0; i < 3; ++i) to[i] += (u(rng) - 0.5) * (rng() % 3 == 0 ? 0.1 : 20);
@@ -1174,10 +1179,7 @@ TEST(PlannerJerk, RandomHelixChainsInEveryPlaneKeepTheLimits) {
         to[pl[2]] += (u(rng) < 0.5 ? -1 : 1) * pitch * rad * sweep;
         r.geom = make_arc(at, to, pl[0], pl[1], c0, c1, dir > 0 ? 1 : -1);
       }
-      reqs.push_back(r);
-      at = r.geom.end;
-    }
-    return reqs;
+    });
   });
 }
 

@@ -111,27 +111,38 @@ TEST(Summary, StandstillIsMeasuredFromWhereTheMachineShouldStand) {
   EXPECT_NEAR(s.max_path_deviation_mm, 0.25, 1e-9);
 }
 
+// A straight motion along X from (0, 5) sampled at t = k·dt, k = 0..n: cmd(t) and path_v(t) given,
+// the program one line to where it ends (X and Y axes).
+struct SampledMotion {
+  program::Program prog;
+  Trace trace;
+};
+template <typename Cmd, typename PathV>
+SampledMotion sampled_motion(int n, double dt, Cmd cmd, PathV path_v) {
+  SampledMotion m;
+  m.prog.start = xy(0, 5);
+  m.prog.instructions = {ins(program::Linear{xy(cmd(n * dt)[0], 5), 100})};
+  m.trace.period_s = dt;
+  m.trace.axes = core::axis_bit(0) | core::axis_bit(1);
+  for (int k = 0; k <= n; ++k) {
+    TraceRow r;
+    r.t_s = k * dt;
+    r.cmd = cmd(k * dt);
+    r.act = r.cmd;
+    r.path_v = path_v(k * dt);
+    r.moving = true;
+    m.trace.rows.push_back(r);
+  }
+  return m;
+}
+
 // x(t) = j·t³/6 sampled at t = k·dt: every third difference is j·dt³, so the summary's jerk is j
 // (and no jerk on an axis that does not move, nor from a parabola: its third differences are 0).
 TEST(Summary, JerkFromACubicMotion) {
   constexpr double j = 30'000, dt = 0.001;
-  constexpr int n = 300;
-  program::Program prog;
-  prog.start = xy(0, 5);
-  prog.instructions = {ins(program::Linear{xy(j * (n * dt) * (n * dt) * (n * dt) / 6, 5), 100})};
-  Trace tr;
-  tr.period_s = dt;
-  tr.axes = core::axis_bit(0) | core::axis_bit(1);
-  for (int k = 0; k <= n; ++k) {
-    TraceRow r;
-    r.t_s = k * dt;
-    const double t = k * dt;
-    r.cmd = xy(j * t * t * t / 6, 5 + 100 * t * t);
-    r.act = r.cmd;
-    r.moving = true;
-    tr.rows.push_back(r);
-  }
-  const auto s = summarize(prog, test_table(), tr);
+  const auto m = sampled_motion(
+      300, dt, [&](double t) { return xy(j * t * t * t / 6, 5 + 100 * t * t); }, [&](double t) { return j * t * t / 2; });
+  const auto s = summarize(m.prog, test_table(), m.trace);
   EXPECT_NEAR(s.axis[0].max_jerk_mm_s3, j, 1e-3);
   EXPECT_LT(s.axis[1].max_jerk_mm_s3, 1e-3);
   EXPECT_NE(to_text(s).find("max jerk mm/s³"), std::string::npos);
@@ -142,23 +153,8 @@ TEST(Summary, JerkFromACubicMotion) {
 TEST(Summary, VelocityAndAccelerationFromAQuadraticMotion) {
   constexpr double a = 200, dt = 0.001;
   constexpr int n = 500;
-  program::Program prog;
-  prog.start = xy(0, 5);
-  prog.instructions = {ins(program::Linear{xy(0.5 * a * (n * dt) * (n * dt), 5), 100})};
-  Trace tr;
-  tr.period_s = dt;
-  tr.axes = core::axis_bit(0) | core::axis_bit(1);
-  for (int k = 0; k <= n; ++k) {
-    TraceRow r;
-    r.t_s = k * dt;
-    const double t = k * dt;
-    r.cmd = xy(0.5 * a * t * t, 5);
-    r.act = r.cmd;
-    r.path_v = a * t;
-    r.moving = true;
-    tr.rows.push_back(r);
-  }
-  const auto s = summarize(prog, test_table(), tr);
+  const auto m = sampled_motion(n, dt, [&](double t) { return xy(0.5 * a * t * t, 5); }, [&](double t) { return a * t; });
+  const auto s = summarize(m.prog, test_table(), m.trace);
   EXPECT_NEAR(s.axis[0].max_vel_mm_s, a * dt * (n - 0.5), 1e-6);
   EXPECT_NEAR(s.axis[0].max_acc_mm_s2, a, 1e-4);
   EXPECT_EQ(s.axis[1].max_vel_mm_s, 0.0);
