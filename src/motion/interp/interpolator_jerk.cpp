@@ -127,7 +127,9 @@ const Setpoint& Interpolator::step_jerk(double dt) {
         taken.cert_a2 = taken.cert_j2 = taken.cert_w = taken.cert_gate_mm = 0;
       }
     } else {
-      step = cert_.cert_a > 0 ? guard.certified_brake(now, cert_.cert_a, cert_.cert_j) : guard.brake_now(now);
+      step = cert_.cert_a <= 0 ? guard.brake_now(now)
+             : first.stop_binds  ? guard.anchored_brake(now, cert_.cert_a, cert_.cert_j, first.fail_at_mm)
+                                 : guard.certified_brake(now, cert_.cert_a, cert_.cert_j);
     }
     for (std::size_t i = 0; i < m; ++i) {
       if (!ahead(cand[i], step)) break;

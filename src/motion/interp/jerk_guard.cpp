@@ -469,6 +469,29 @@ bool JerkGuard::tail_safe(const ProfileState& x, double p, const Cursor& c) cons
 // report it, given only when π is that same ramp (uniform: every block π's brakes would scan has
 // the limits of the block the ramp starts in, so its anticipation and jerk never differ). Otherwise
 // Unknown (v then holds the first broken limit as a hint, and v.brake_s the ramp's duration).
+// rt-safe
+double JerkGuard::brake_distance(const ProfileState& x, double a, double j) { return BrakeRamp({0, x.v, x.a, 0}, a, j).d_stop; }
+
+// rt-safe
+PathStep JerkGuard::anchored_brake(const ProfileState& now, double a, double j, double stop_mm) const {
+  const ProfileState x{0, now.v, now.a, 0};
+  if (!(stop_mm > 0) || !(j > 0) || !std::isfinite(j) || !(a > 0)) return certified_brake(now, a, j);
+  // Braking too hard already (it would reverse): the plain ramp, as certify() would not take it.
+  if (x.a < 0 && x.v < x.a * x.a / (2 * j)) return certified_brake(now, a, j);
+  // Only past the point by more than a ten-thousandth of a cycle's jerk (j·dt³): the certificate's
+  // own slack is a touch (1e-12 mm), and a step this small is lost in the rounding of the positions.
+  if (!(brake_distance(x, a, j) > stop_mm + std::max(kTouch_mm, 1e-4 * j * dt_ * dt_ * dt_))) return certified_brake(now, a, j);
+  // The distance falls as J rises (the ramp ends sooner): bisect in [j, j·(1 + kRel)].
+  double lo = j, hi = j * (1 + kRel);
+  if (brake_distance(x, a, hi) > stop_mm) return certified_brake(now, a, hi);  // the most the slack allows
+  for (int it = 0; it < 40 && lo < hi; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    if (mid <= lo || mid >= hi) break;
+    (brake_distance(x, a, mid) > stop_mm ? lo : hi) = mid;
+  }
+  return certified_brake(now, a, hi);
+}
+
 JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Cursor& c, GuardVerdict& v,
                                    std::size_t* gate) const {
   const ProfileState x{0, x0.v, x0.a, 0};

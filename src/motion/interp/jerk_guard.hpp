@@ -141,6 +141,14 @@ class JerkGuard {
   PathStep brake_now(const ProfileState& now) const { return brake({now.s, now.v, now.a, 0}, 0, Cursor{0}); }
   // rt-safe. One cycle of the certified ramp to rest with limits a, j from the present state.
   PathStep certified_brake(const ProfileState& now, double a, double j) const { return ramp_cycle(now, 0, a, j, dt_); }
+  // rt-safe. The same, kept from ending past a point to stop at `stop_mm` ahead: run for thousands
+  // of cycles, the ramp solved again from each cycle's rounded state drifts (2.5e-11 mm past a stop
+  // after 13 s at 0.25 ms), and the last cycle's landing on the point took the drift as a jerk step.
+  // Where the ramp would end past the point (by more than 1e-4 of j·dt³), its jerk is raised by what
+  // lands it there, at most the guard's relative slack (kRel): a cycle's drift needs about 1e-14 of J.
+  PathStep anchored_brake(const ProfileState& now, double a, double j, double stop_mm) const;
+  // rt-safe. Distance of the ramp to rest with limits a, j from x (|x.a| above a first brought to it).
+  static double brake_distance(const ProfileState& x, double a, double j);
   // rt-safe. One cycle of a gated certificate's brake (GuardVerdict::cert_a2 > 0) with the gate
   // gate_mm ahead: before it the ramp to w, past it the ramp to rest.
   PathStep gated_brake(const ProfileState& now, const GuardVerdict& c) const {

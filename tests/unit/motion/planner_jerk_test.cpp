@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <functional>
+#include <limits>
 #include <numbers>
 #include <cstdio>
 #include <cstdlib>
@@ -1224,8 +1225,8 @@ TEST(PlannerJerk, RandomChainsOnAVerySoftAxisKeepTheLimits) {
     lim.period_s = rng() % 2 ? 0.001 : 0.00025;
     auto& soft = lim.axis[rng() % 3];
     // j·dt³ at least 1e-8 mm, fifty times the floor the configuration allows: nearer the floor a
-    // brake of thousands of cycles drifts by its rounding and can land with a few 1e-4 of the jerk
-    // too much (docs/planner.md, "Jerk": stop 17).
+    // position-mode stop's landing tolerance (1e-13 of its distance) and the rounding of positions
+    // are a few 1e-4 of a cycle's jerk (docs/planner.md, "Jerk": stop 17).
     const double dt3 = lim.period_s * lim.period_s * lim.period_s;
     soft.j_max_mm_s3 = std::max(soft.j_max_mm_s3 / (50 + 150 * u(rng)), 1e-8 / dt3);
     soft.a_max_mm_s2 /= 50 + 150 * u(rng);
@@ -1237,6 +1238,36 @@ TEST(PlannerJerk, RandomChainsOnAVerySoftAxisKeepTheLimits) {
     EXPECT_EQ(res.end, reqs.back().geom.end) << "seed " << seed;
     if (HasFailure()) break;
   }
+}
+
+// A helix whose linear Y runs 262 mm on a very soft Y (31 mm/s³ at 0.25 ms: j·dt³ = 4.9e-10 mm), then
+// an exact stop (the corner cannot be blended on Y): the stop lands 8.4e-12 mm short, about 150 ulps
+// of 260 mm: the kept fallback brake, solved again from each cycle's rounded state for 13 s, had
+// drifted past the point, and its last cycle's landing on it took the drift as a jerk step: 1.05×
+// Y's jerk (a review's exploration). JerkGuard::anchored_brake raises its jerk within the guard's
+// relative slack where it would end past the point.
+TEST(PlannerJerk, StopLandingOnALongHelixKeepsTheJerkOfASoftAxis) {
+  MachineLimits lim;
+  lim.axis[0] = {208.25513182745198, 1536.9568684266212, 85937.481757523012, -1000, 1000};
+  lim.axis[1] = {98.967262924224968, 8.9673252299048034, 31.220345748303313, -1000, 1000};
+  lim.axis[2] = {302.74499233469965, 979.30572435586816, 7539.9092801219313, -1000, 1000};
+  lim.period_s = 0.00025;
+  const core::Vec a = xyz(-0.12114780833303908, -2.1373613723737077, 63.820642455092411);
+  const core::Vec b = xyz(2.0661548750440382, 259.83109941131579, 68.568881226660196);
+  std::vector<PathRequest> reqs{arc_req(make_arc(a, b, 0, 2, -6.1402873335943884, 69.471308640236714, -1), 120.33847357692871, 0),
+                                line_req(b, xyz(-5.1889295966178342, 259.87765449428628, 63.000344157043884), 354.51131560236229, 1)};
+  for (auto& r : reqs) r.tolerance_mm = 0.01;
+  const auto res = run_path(lim, reqs, 3);
+  ASSERT_TRUE(res.finished);
+  // Y near 260 mm: a third difference of positions is good to 8 ulps, 4.5e-13 mm, which is 9e-4 of
+  // this j·dt³ (the suite's 1e-4 assumes positions nearer the origin).
+  const double noise = 8 * 260 * std::numeric_limits<double>::epsilon() / (lim.axis[1].j_max_mm_s3 * std::pow(lim.period_s, 3));
+  EXPECT_LT(noise, 1e-3);
+  EXPECT_LE(res.fig.j_ratio, 1 + noise) << res.fig.describe();
+  EXPECT_LE(res.fig.a_ratio, 1 + kRatioNoise) << res.fig.describe();
+  EXPECT_LE(res.fig.v_ratio, 1 + kRatioNoise) << res.fig.describe();
+  EXPECT_LE(res.fig.deviation_mm, 0.01 + 1e-9);
+  EXPECT_EQ(res.end, reqs.back().geom.end);
 }
 
 // The fallback brake the interpolator keeps (the plain certificate's ramp to rest, or the gated
