@@ -453,22 +453,6 @@ bool JerkGuard::tail_safe(const ProfileState& x, double p, const Cursor& c) cons
 }
 
 
-// rt-safe. The certificate (see the header) for the rest from x (at p, in block c.k):
-//  - its limits A, J: A the least acceleration of the blocks the ramp to rest enters, J the least
-//    jerk of those and of the blocks π's scans would look at beyond (so that it accepts no more than
-//    π would: greedy steps π refuses end up slower). Lowering them lengthens the ramp, so the walk
-//    goes on from where it is with the new distance until it covers the ramp; an exact stop or the
-//    window's end ends it (the ramp may reach it at rest, never cross it);
-//  - |x.a| may be above A: the ramp first brings it down at J (as ramp_cycle does), and a block
-//    entered meanwhile must allow the |a| from where it is entered on;
-//  - that ramp, known in closed form, against every block it enters, in order of distance: at every
-//    junction no faster than the junction allows, and under every cap and soft cap of a block from
-//    where it enters it (past its peak the speed only falls: where it has fallen to a cap it stays
-//    under it); no reversal. |jerk| ≤ J all along by construction.
-// Safe: v.cert_a, v.cert_j are set. Fails: v holds the first broken limit as the simulation would
-// report it, given only when π is that same ramp (uniform: every block π's brakes would scan has
-// the limits of the block the ramp starts in, so its anticipation and jerk never differ). Otherwise
-// Unknown (v then holds the first broken limit as a hint, and v.brake_s the ramp's duration).
 // rt-safe
 double JerkGuard::brake_distance(const ProfileState& x, double a, double j) { return BrakeRamp({0, x.v, x.a, 0}, a, j).d_stop; }
 
@@ -492,6 +476,22 @@ PathStep JerkGuard::anchored_brake(const ProfileState& now, double a, double j, 
   return certified_brake(now, a, hi);
 }
 
+// rt-safe. The certificate (see the header) for the rest from x (at p, in block c.k):
+//  - its limits A, J: A the least acceleration of the blocks the ramp to rest enters, J the least
+//    jerk of those and of the blocks π's scans would look at beyond (so that it accepts no more than
+//    π would: greedy steps π refuses end up slower). Lowering them lengthens the ramp, so the walk
+//    goes on from where it is with the new distance until it covers the ramp; an exact stop or the
+//    window's end ends it (the ramp may reach it at rest, never cross it);
+//  - |x.a| may be above A: the ramp first brings it down at J (as ramp_cycle does), and a block
+//    entered meanwhile must allow the |a| from where it is entered on;
+//  - that ramp, known in closed form, against every block it enters, in order of distance: at every
+//    junction no faster than the junction allows, and under every cap and soft cap of a block from
+//    where it enters it (past its peak the speed only falls: where it has fallen to a cap it stays
+//    under it); no reversal. |jerk| ≤ J all along by construction.
+// Safe: v.cert_a, v.cert_j are set. Fails: v holds the first broken limit as the simulation would
+// report it, given only when π is that same ramp (uniform: every block π's brakes would scan has
+// the limits of the block the ramp starts in, so its anticipation and jerk never differ). Otherwise
+// Unknown (v then holds the first broken limit as a hint, and v.brake_s the ramp's duration).
 JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Cursor& c, GuardVerdict& v,
                                    std::size_t* gate) const {
   const ProfileState x{0, x0.v, x0.a, 0};
