@@ -116,6 +116,15 @@ static std::vector<PathRequest> chain(int n, double tol, Draw draw) {
   return reqs;
 }
 
+// X, Y, Z with the given speed, acceleration and jerk each (travel ±1000 mm), at `period_s`: the
+// limits of a seed found by exploration, written out.
+static MachineLimits limits_vaj(const std::array<std::array<double, 3>, 3>& vaj, double period_s) {
+  MachineLimits lim;
+  for (std::size_t i = 0; i < 3; ++i) lim.axis[i] = {vaj[i][0], vaj[i][1], vaj[i][2], -1000, 1000};
+  lim.period_s = period_s;
+  return lim;
+}
+
 // Seeded random paths with random per-axis limits (speed, acceleration, jerk) and a tolerance
 // drawn from `tols`: `make` draws the path; every setpoint must keep every axis's limits and P, and
 // the end must be exact.
@@ -1187,25 +1196,17 @@ TEST(PlannerJerk, RandomHelixChainsInEveryPlaneKeepTheLimits) {
 // A review's exploration (2026-12-03) found runs that came to rest a few nanometres short of an
 // exact stop and never moved again: three xz arcs on a soft Z (j 235 mm/s³) at 1 ms, P 0.01.
 TEST(PlannerJerk, RestJustShortOfAStopMovesOnToIt) {
-  MachineLimits lim;
-  lim.axis[0] = {94.938398689346215, 5044.821742683017, 97940.832588854915, -1000, 1000};
-  lim.axis[1] = {220.92991096911626, 2140.4241800586415, 98412.312630735789, -1000, 1000};
-  lim.axis[2] = {216.75416046650008, 40.807252091490462, 234.65166787838152, -1000, 1000};
-  lim.period_s = 0.001;
-  std::vector<PathRequest> reqs;
-  const auto add = [&](const Segment& g, double feed) {
-    PathRequest r;
-    r.geom = g;
-    r.feed_mm_s = feed;
-    r.tag = static_cast<std::uint32_t>(reqs.size());
-    r.tolerance_mm = 0.01;
-    reqs.push_back(r);
-  };
+  const MachineLimits lim = limits_vaj({{{94.938398689346215, 5044.821742683017, 97940.832588854915},
+                                         {220.92991096911626, 2140.4241800586415, 98412.312630735789},
+                                         {216.75416046650008, 40.807252091490462, 234.65166787838152}}},
+                                       0.001);
   const core::Vec p1 = xyz(-0.1542524456310872, 0, 0.14196536564845641), p2 = xyz(-5.6657818944876919, 0, 3.8839253791524868);
-  add(make_arc(xyz(0, 0, 0), p1, 0, 2, 0.86854244990662011, 1.0984988298633216, -1), 37.496440696477727);
-  add(make_arc(p1, p2, 0, 2, -11.182934909921737, -10.172227528076979, 1), 50.208423097069236);
-  add(make_arc(p2, xyz(-11.428825326992172, 0, 5.3016686440107357), 0, 2, -13.853167002940967, -16.975227280353536, 1),
-      91.318777068499557);
+  std::vector<PathRequest> reqs{
+      arc_req(make_arc(xyz(0, 0, 0), p1, 0, 2, 0.86854244990662011, 1.0984988298633216, -1), 37.496440696477727, 0),
+      arc_req(make_arc(p1, p2, 0, 2, -11.182934909921737, -10.172227528076979, 1), 50.208423097069236, 1),
+      arc_req(make_arc(p2, xyz(-11.428825326992172, 0, 5.3016686440107357), 0, 2, -13.853167002940967, -16.975227280353536, 1),
+              91.318777068499557, 2)};
+  for (auto& r : reqs) r.tolerance_mm = 0.01;
   const auto res = run_path(lim, reqs, 3, {}, {}, 200'000);
   expect_within(res, 0.01, "three xz arcs");
   EXPECT_EQ(res.end, reqs.back().geom.end);
@@ -1247,11 +1248,10 @@ TEST(PlannerJerk, RandomChainsOnAVerySoftAxisKeepTheLimits) {
 // Y's jerk (a review's exploration). JerkGuard::anchored_brake raises its jerk within the guard's
 // relative slack where it would end past the point.
 TEST(PlannerJerk, StopLandingOnALongHelixKeepsTheJerkOfASoftAxis) {
-  MachineLimits lim;
-  lim.axis[0] = {208.25513182745198, 1536.9568684266212, 85937.481757523012, -1000, 1000};
-  lim.axis[1] = {98.967262924224968, 8.9673252299048034, 31.220345748303313, -1000, 1000};
-  lim.axis[2] = {302.74499233469965, 979.30572435586816, 7539.9092801219313, -1000, 1000};
-  lim.period_s = 0.00025;
+  const MachineLimits lim = limits_vaj({{{208.25513182745198, 1536.9568684266212, 85937.481757523012},
+                                         {98.967262924224968, 8.9673252299048034, 31.220345748303313},
+                                         {302.74499233469965, 979.30572435586816, 7539.9092801219313}}},
+                                       0.00025);
   const core::Vec a = xyz(-0.12114780833303908, -2.1373613723737077, 63.820642455092411);
   const core::Vec b = xyz(2.0661548750440382, 259.83109941131579, 68.568881226660196);
   std::vector<PathRequest> reqs{arc_req(make_arc(a, b, 0, 2, -6.1402873335943884, 69.471308640236714, -1), 120.33847357692871, 0),
