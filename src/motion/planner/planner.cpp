@@ -135,14 +135,15 @@ void curve_jerk_acc(SegmentLimits& l, double j_axis, double amp_n, double kappa,
   l.a_max_mm_s2 = std::min(l.a_max_mm_s2, scale * kArcAccJerkShare * j_axis / (3 * l.v_max_mm_s * kappa * amp_n));
 }
 
+// An arc that moves axes out of its plane: a helix (its speed term and its fillets differ).
+bool is_helix(const Segment& g) { return g.kind == SegmentKind::Arc && core::norm(g.linear) > 1e-12; }
 
 }  // namespace
 
 // rt-safe
 double plane_arc_spiral(const Segment& g) {
   if (g.kind != SegmentKind::Arc || !(g.length > 0)) return kInf;
-  for (std::size_t i = 0; i < core::kMaxAxes; ++i)
-    if (std::abs(g.linear[i]) >= 1e-12) return kInf;  // a helix
+  if (is_helix(g)) return kInf;
   if (!(std::abs(g.dradius) <= 0.01 * std::min(g.radius, g.radius + g.dradius))) return kInf;
   // r runs linearly in the angle: |κ'| = κ²·|dr/dθ|/r·(1 + O(ε²)), ε = |dr/dθ|/r ≤ 1 %; |dr/dθ|/r ≤
   // |dradius|·r_max/(r_min·length·(1 − ε)), within twice |dradius|/length.
@@ -200,7 +201,7 @@ SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double 
     // The speed term: v³κ² on a plane arc. A helix's in-plane axes run a circle at v·inplane, so
     // theirs is v³·|d³p/ds³| in the plane (ArcBounds::k_speed, κ²/inplane on a circular helix):
     // larger than v³κ² by 1/inplane, tenfold on a helix ten times steeper than its radius.
-    const double k_speed = std::max(kappa * kappa, core::norm(g.linear) >= 1e-12 ? ab.k_speed : 0.0);
+    const double k_speed = std::max(kappa * kappa, is_helix(g) ? ab.k_speed : 0.0);
     for (std::size_t i : {std::size_t{g.axis0}, std::size_t{g.axis1}}) {
       if (inplane < 1e-12) break;
       v = std::min(v, lim.axis[i].v_max_mm_s / inplane);
@@ -917,7 +918,7 @@ bool Planner::holds_fillet(const Block& b, double p_mm) const {
   const Block& a = queue_.pending_;
   if (a.is_blend || a.seg.kind != SegmentKind::Line || b.seg.kind != SegmentKind::Arc || a.rapid != b.rapid) return false;
   if (!std::isfinite(b.j_mm_s3) || !std::isfinite(a.j_mm_s3)) return false;  // trapezoids take the curvature step at speed
-  if (core::norm(b.seg.linear) > 1e-12) return false;  // a helix: its lines rarely share a plane
+  if (is_helix(b.seg)) return false;  // its lines rarely share a plane
   if (!(std::abs(b.seg.sweep) <= kFilletMaxRad)) return false;
   if (core::norm(b.seg.tangent(0) - a.seg.dir) > kFilletMaxTurn) return false;
   return b.v_cap_mm_s < target_speed(b.rapid, b.feed_mm_s);
