@@ -132,7 +132,11 @@ const Setpoint& Interpolator::step_jerk(double dt) {
                                  : guard.certified_brake(now, cert_.cert_a, cert_.cert_j);
     }
     for (std::size_t i = 0; i < m; ++i) {
-      if (!ahead(cand[i], step)) break;
+      // The position-mode stop also where it ties with the fallback to rounding: both land on the
+      // same point (the fallback anchored on it), the stop's plan stretched onto it may be a few ulps
+      // slower, and taking it keeps its plan for the next cycles (StopPlan) instead of solving again.
+      const bool stop = asked_stop && cand[i].x.s == stop_x.s && cand[i].x.v == stop_x.v && cand[i].x.a == stop_x.a;
+      if (!ahead(cand[i], step) && !(stop && cand[i].x.v >= step.x.v - 1e-12 * std::max(1.0, step.x.v))) continue;
       const GuardVerdict v = guard.verify(cand[i], mode);
       ++guard_verifies_;
       guard_simulations_ += v.simulated ? 1 : 0;

@@ -2,6 +2,7 @@
 #include "motion/profile/jerk_path.hpp"
 
 #include <cassert>
+#include <cmath>
 
 namespace softmc::motion {
 
@@ -11,11 +12,21 @@ void JerkPath::reset(const ProfileState& start) {
   start_ = start;
   start_.j = 0;
   end_ = start_;
+  stretch_ = 1;
+}
+
+void JerkPath::snap_end(const ProfileState& exact) {
+  const double own = end_.s - start_.s, want = exact.s - start_.s;
+  const double k = own != 0 ? want / own : 1.0;
+  stretch_ = std::abs(k - 1) <= 1e-9 ? k : 1.0;
+  end_ = exact;
+  end_.j = 0;
 }
 
 void JerkPath::push(double dur, double j) {
   if (!(dur > 0)) return;
   assert(n_ < kMaxPhases);
+  assert(stretch_ == 1);  // snap_end comes last
   if (n_ >= kMaxPhases) return;
   ProfileState x = end_;
   x.j = j;
@@ -37,7 +48,14 @@ ProfileState JerkPath::at(double t) const {
   int i = n_ - 1;
   while (i > 0 && ph_[i].t0 > t) --i;
   const Phase& p = ph_[i];
-  return advance(p.x0, p.x0.j, t - p.t0);
+  ProfileState x = advance(p.x0, p.x0.j, t - p.t0);
+  if (stretch_ != 1) {
+    x.s = start_.s + (x.s - start_.s) * stretch_;
+    x.v *= stretch_;
+    x.a *= stretch_;
+    x.j *= stretch_;
+  }
+  return x;
 }
 
 }  // namespace softmc::motion

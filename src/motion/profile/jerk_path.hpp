@@ -35,8 +35,12 @@ class JerkPath {
   void push_acc(double dur, double a);
   // Sets the acceleration at the end of the path (a jump, for jerk-unlimited profiles).
   void set_end_acc(double a) { end_.a = a; }
-  // Replaces the integrated end state by the exact one (removes rounding at the target).
-  void snap_end(const ProfileState& exact) { end_ = exact; end_.j = 0; }
+  // Replaces the integrated end state by the exact one (removes rounding at the target). Where the
+  // exact end lies within 1e-9 of the path's own distance from its start, the positions in between
+  // are stretched by the same ratio (v, a and j with them), so that the path arrives on the exact end
+  // instead of jumping onto it: a jump of δ is a jerk of 2·δ/dt³ in the setpoints' third differences,
+  // which a root found to 1e-13 of a 20 mm stop makes 0.6 % of one cycle's jerk at 21 mm/s³ and 0.25 ms.
+  void snap_end(const ProfileState& exact);
 
   double duration() const { return t_end_; }
   const ProfileState& start() const { return start_; }
@@ -54,6 +58,7 @@ class JerkPath {
   std::array<Phase, kMaxPhases> ph_{};
   int n_ = 0;
   double t_end_ = 0;
+  double stretch_ = 1;  // positions from start_ scaled by this before the end (snap_end)
   ProfileState start_{}, end_{};
 };
 
