@@ -87,24 +87,45 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   GuardVerdict taken = first;
   ProfileState stop_x{};  // the position-mode stop's end state, when it was a candidate
   bool asked_stop = false;
+  const double stop_v = std::max({v_, vt, 1e-6});  // a position-mode stop's speed limit
+  double stop_at = 0, stop_vmax = 0;  // its point (from now) and speed limit
+  double ramp_u = 0;   // the speed of the ramp to a speed limit the first candidate missed, when it is one
+  // A position-mode stop on the point `at` ahead, no faster than vmax (the stop plan kept while it is taken).
+  const auto stop_step = [&](double at, double vmax) {
+    double a_s = 0, j_s = 0;
+    guard.limits_until(at, a_s, j_s);
+    const ProfileState y = stop_plan_.step(now, at, vmax, a_s, j_s, dt);
+    stop_x = y;
+    asked_stop = true;
+    stop_at = at;
+    stop_vmax = vmax;
+    PathStep st;
+    st.x = y;
+    st.j_abs = j_s;
+    st.a_abs = std::max(std::abs(now.a), std::abs(y.a));
+    st.v_peak = std::max({now.v, y.v, now.a > 0 ? inflection_speed(now.v, now.a, j_s) : now.v});
+    st.v_min = std::min(now.v, y.v);
+    return st;
+  };
   if (first.failed()) {
-    std::array<PathStep, 4> cand{};
+    std::array<PathStep, 5> cand{};
     std::size_t m = 0;
     if (first.stop_binds && first.fail_at_mm > 0) {
-      double a_s = 0, j_s = 0;
-      guard.limits_until(first.fail_at_mm, a_s, j_s);
-      const ProfileState y = stop_plan_.step(now, first.fail_at_mm, std::max({v_, vt, 1e-6}), a_s, j_s, dt);
-      stop_x = y;
-      asked_stop = true;
-      PathStep st;
-      st.x = y;
-      st.j_abs = j_s;
-      st.a_abs = std::max(std::abs(now.a), std::abs(y.a));
-      st.v_peak = std::max({now.v, y.v, now.a > 0 ? inflection_speed(now.v, now.a, j_s) : now.v});
-      st.v_min = std::min(now.v, y.v);
-      cand[m++] = st;
-    } else if (first.fail_u_mm_s > 0 && first.fail_u_mm_s < v_) {
-      cand[m++] = ramp_cycle(now, first.fail_u_mm_s, a_c, j_c, dt);
+      cand[m++] = stop_step(first.fail_at_mm, stop_v);
+    } else if (first.fail_u_mm_s > 0 && (first.fail_u_mm_s < v_ || (v_ == 0 && a_ == 0))) {
+      // Down to the speed the ramp missed; or, from rest, up to it: a few nanometres before a tiny
+      // block whose cap is far below what one cycle at full jerk reaches, no other candidate moves
+      // at all. (Ramping up to it while moving was tried: greedy, surfacing.ngc 0.3 % slower.)
+      ramp_u = first.fail_u_mm_s;
+      cand[m++] = ramp_cycle(now, ramp_u, a_c, j_c, dt);
+    }
+    if (!asked_stop && v_ == 0 && a_ == 0 && rest_cycles_ >= 3 && !h && vt > 0 && f.length > s_) {
+      // At rest for three cycles with every move refused: a position-mode stop on the front
+      // block's end, no faster than its cap. Blocks of a few nanometres whose caps are 1e-4 mm/s
+      // are passed so, a few cycles each, where a ramp that reaches their cap within a cycle would
+      // still pass the slower jerk further on too fast (and the step onto them below is too long).
+      // A hundredth below the cap: a plan that cruises on the cap exactly is refused for rounding.
+      cand[m++] = stop_step(f.length - s_, 0.99 * std::min(vt, f.v_cap_mm_s));
     }
     cand[m++] = jerk_cycle(now, 0, dt);
     cand[m++] = jerk_cycle(now, -j_now, dt);
@@ -131,6 +152,7 @@ const Setpoint& Interpolator::step_jerk(double dt) {
              : first.stop_binds  ? guard.anchored_brake(now, cert_.cert_a, cert_.cert_j, first.fail_at_mm)
                                  : guard.certified_brake(now, cert_.cert_a, cert_.cert_j);
     }
+    int retries = 0;
     for (std::size_t i = 0; i < m; ++i) {
       // The position-mode stop also where it ties with the fallback to rounding: both land on the
       // same point (the fallback anchored on it), the stop's plan stretched onto it may be a few ulps
@@ -145,6 +167,27 @@ const Setpoint& Interpolator::step_jerk(double dt) {
         taken = v;
         break;
       }
+      // A stop or a ramp to a speed limit, refused for a nearer point to stop at or a slower limit
+      // on the way: the stop or the ramp for that one instead, or the same stop no faster than
+      // that limit (at most four times). Tiny blocks
+      // whose caps fall one after another within one cycle's distance, or an exact stop a few
+      // nanometres behind a slow one (CAM zigzags), are otherwise never entered from rest: every
+      // step of one cycle would pass one of them too fast, and no other candidate moves at all.
+      const bool is_ramp = ramp_u > 0 && cand[i].x.v == ramp_u && cand[i].x.a == 0;
+      if (!(stop || is_ramp) || retries >= 4) continue;
+      if (v.stop_binds && v.fail_at_mm > 0 && (!asked_stop || v.fail_at_mm < stop_at)) {
+        cand[i] = stop_step(v.fail_at_mm, stop ? stop_vmax : stop_v);
+      } else if (stop && !v.stop_binds && v.fail_u_mm_s > 0 && v.fail_u_mm_s < stop_vmax) {
+        cand[i] = stop_step(stop_at, v.fail_u_mm_s);  // the same stop, no faster than that limit
+      } else if (!v.stop_binds && v.fail_u_mm_s > 0 && (v.fail_u_mm_s < v_ || (v_ == 0 && a_ == 0)) &&
+                 (ramp_u == 0 || v.fail_u_mm_s < ramp_u)) {
+        ramp_u = v.fail_u_mm_s;
+        cand[i] = ramp_cycle(now, ramp_u, a_c, j_c, dt);
+      } else {
+        continue;
+      }
+      ++retries;
+      --i;  // checked next (unsigned: ++i brings it back)
     }
   }
   cert_ = taken;
@@ -171,6 +214,23 @@ const Setpoint& Interpolator::step_jerk(double dt) {
     s_ = f.length;
     v_ = 0;
     a_ = 0;
+  } else if (rest_cycles_ >= 3 && !h && vt > 0 && std::isfinite(f.j_mm_s3)) {
+    // At rest, and refused every move for three cycles, before blocks so short and slow that one
+    // cycle from rest passes them too fast (a blend of 1e-6 mm at 1e-3 mm/s where a return line runs
+    // back almost onto its outgoing one, CAM zigzags of a few nanometres): the end of the farthest
+    // of them within J·dt³/8 of path, J the least path jerk on the way, is taken as one step, no
+    // further than an exact stop. Per axis that is at most j_i·dt³/8 (J·|t_i| ≤ j_i on every block
+    // kind and the chord is no longer than the path), as the rest onto a stop above.
+    double d = left, jmin = f.j_mm_s3, to = -1;
+    for (std::size_t k = 0;; ++k) {
+      if (d <= jmin * dt * dt * dt / 8) to = d;
+      if (k + 1 >= ring.size() || ring.at(k + 1).v2_junction <= 0 || !std::isfinite(ring.at(k + 1).j_mm_s3)) break;
+      const Block& b = ring.at(k + 1);
+      jmin = std::min(jmin, b.j_mm_s3);
+      d += b.length;
+      if (!(d <= jmin * dt * dt * dt / 8)) break;
+    }
+    if (to > 0) s_ += to;
   }
 
   // Pass the blocks the cycle finished.

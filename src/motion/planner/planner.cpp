@@ -684,6 +684,19 @@ void Planner::join(Block& b, double p_mm) {
           }
         }
         if (blend.length > 0) {
+          // A corner so sharp (a return line almost onto its outgoing one) that its blend is
+          // crossed far slower than stopping and going on: 1e-8 mm/s over 2.6e-4 mm took hours of
+          // a review's fuzzing. Taken only while its crossing lasts less than ten times a stop over
+          // its length at the lines' acceleration and jerk; else the corner is a kink (kink()).
+          double v_eff = blend.v_cap_mm_s;
+          if (jerk && blend.is_blend)
+            v_eff = std::min(v_eff, std::sqrt(curvature_step_v2(blend.blend.curvature(0), limits_,
+                                                                config_.curvature_step_share)));
+          const double acc = std::min(a.a_mm_s2, b.a_mm_s2), jk = std::min(a.j_mm_s3, b.j_mm_s3);
+          const double t_stop = 2 * std::sqrt(blend.length / acc) + (std::isfinite(jk) ? 4 * std::cbrt(blend.length / jk) : 0.0);
+          if (!(blend.length < 10 * t_stop * v_eff)) blend = Block{};
+        }
+        if (blend.length > 0) {
           const Vec corner = a.seg.end;
           const Vec p1 = corner - a.seg.dir * d;
           const Vec p2 = corner + b.seg.dir * d;

@@ -1613,3 +1613,110 @@ TEST(PlannerJerk, SubNanometreMovesBetweenExactStopsKeepTheJerk) {
     }
   }
 }
+
+// CAM zigzags of a few nanometres (a 0.1 µm step back and on again, printed rounding of a polyline)
+// make blocks of 1e-8 mm whose caps are a few 1e-4 mm/s: one cycle at full jerk from rest passes
+// them far too fast. The fallback brake came to rest 6e-8 to 2.4e-7 mm before such a block and no
+// candidate moved again: the run never ended (an end-to-end fuzzer's seeds; `softmc run` grew its
+// trace until it ran out of memory). From rest the follower now also ramps up to the speed the ramp
+// to the cruise speed missed, and a ramp or a position-mode stop refused for a slower limit or a
+// nearer point to stop at further on is replaced by the one for that limit (interpolator_jerk.cpp).
+TEST(PlannerJerk, FromRestBeforeNanometreZigzagsTheFollowerMovesOn) {
+  const MachineLimits lim = limits_vaj({{{250, 2794.714609443104, 133915.06614817033},
+                                         {250, 3174.6937844178638, 190614.19905667653},
+                                         {250, 2305.076564163681, 178457.45398354644}}},
+                                       0.001);
+  const double f = 3542.23 / 60;
+  // A tiny step back and on again; then a step back, a 1e-7 mm step on and an exact stop.
+  const std::vector<std::vector<core::Vec>> paths = {
+      {xyz(0, 0, 0), xyz(6.147389, 3.1280778, 2.5025897), xyz(6.1473308, 3.1279967, 2.5025897),
+       xyz(6.1518692, 3.134319, 2.5025897)},
+      {xyz(0, 0, 0), xyz(6.1454359, 3.125357, 2.5025897), xyz(6.1454016, 3.1253093, 2.5025897),
+       xyz(6.1454017, 3.1253094, 2.5025897)}};
+  for (std::size_t p = 0; p < paths.size(); ++p) {
+    std::vector<PathRequest> reqs;
+    for (std::size_t k = 0; k + 1 < paths[p].size(); ++k)
+      reqs.push_back(line_req(paths[p][k], paths[p][k + 1], f, static_cast<std::uint32_t>(k), 0.05));
+    const auto res = run_path(lim, reqs, 64, {}, {}, 20'000);
+    const std::string what = "zigzag " + std::to_string(p);
+    expect_within(res, 0.05, what.c_str());
+    EXPECT_EQ(res.end, reqs.back().geom.end) << what;
+    EXPECT_LT(res.cycles, 1000u) << what;  // 0.22 s; it never ended before
+  }
+}
+
+// Random CAM polylines with nanometre noise: steps of 1e-8 to 1e-3 mm, back and on, zero-length
+// moves, on random uneven axes: every run ends, on the last point, within every limit and P.
+TEST(PlannerJerk, RandomNanometreZigzagsEndWithinTheLimits) {
+  for (std::uint64_t seed = 1; seed < 121; ++seed) {
+    std::mt19937_64 rng(seed * 7919);
+    std::uniform_real_distribution<double> u(0, 1);
+    MachineLimits lim = random_jerk_limits(rng, u);
+    lim.period_s = rng() % 2 ? 0.001 : 0.00025;
+    const double tol = std::array{0.0, 0.01, 0.05}[rng() % 3];
+    const double feed = 10 + 100 * u(rng);
+    const auto reqs = chain(4 + static_cast<int>(rng() % 12), tol, [&](int k, const core::Vec& at, const auto&, PathRequest& r) {
+      core::Vec to = at;
+      if (k == 0) {
+        to = xyz(1 + 5 * u(rng), 1 + 5 * u(rng), 2 * u(rng));
+      } else if (rng() % 6 != 0) {  // else a zero-length move
+        const double len = std::pow(10.0, -8 + 5 * u(rng));
+        for (int i = 0; i < 3; ++i) to[i] += len * (2 * u(rng) - 1);
+      }
+      r.geom = make_line(at, to);
+      r.feed_mm_s = feed;
+    });
+    const auto res = run_path(lim, reqs, 3 + rng() % 64, {}, {}, 2'000'000);
+    const std::string what = "seed " + std::to_string(seed);
+    expect_within(res, tol, what.c_str());
+    EXPECT_EQ(res.end, reqs.back().geom.end) << what;
+    if (HasFailure()) break;
+  }
+}
+
+// A return line that runs back almost onto its outgoing one (3e-4 mm off over 15 mm): the corner's
+// blend is 1.6e-6 mm long and capped at 1.4e-3 mm/s. The follower braked to rest 4.2e-7 mm before it
+// and every candidate was refused from then on, with or without a feed hold there (a review's
+// exploration: 89 of 400 such corners hung). At rest for three cycles before blocks that short, the
+// follower takes their end as one step within J·dt³/8 (interpolator_jerk.cpp).
+TEST(PlannerJerk, NearReversalsArePassedAfterRestOrAHold) {
+  MachineLimits lim = xyz_limits(100, 1000);
+  for (int i = 0; i < 3; ++i) lim.axis[i].j_max_mm_s3 = 50000;
+  {
+    const std::vector<PathRequest> reqs{line_req(xyz(0, 0), xyz(20, 0), 100, 0, 0.05),
+                                        line_req(xyz(20, 0), xyz(5, 3e-4), 10, 1, 0.05)};
+    const auto res = run_path(lim, reqs, 16, {}, {}, 100'000);
+    expect_within(res, 0.05, "near-reversal");
+    EXPECT_EQ(res.end, xyz(5, 3e-4));
+  }
+  lim.period_s = 0.002;
+  const std::vector<PathRequest> reqs{line_req(xyz(0, 0), xyz(20, 0), 100, 0, 0.01),
+                                      line_req(xyz(20, 0), xyz(10, 1.1761032597068243e-05), 10, 1, 0.01)};
+  const auto hook = [](std::uint64_t c, Interpolator& in) {
+    if (c == 178) in.set_feed_hold(true);
+    if (c == 478) in.set_feed_hold(false);
+  };
+  const auto res = run_path(lim, reqs, 16, {}, hook, 60'000);
+  expect_within(res, 0.01, "near-reversal after a hold");
+  EXPECT_EQ(res.end, reqs.back().geom.end);
+}
+
+// Near-reversals at random: offsets 1e-6 to 1e-2 mm, P 0.001 to 0.2 mm, cycles 0.25 to 2 ms.
+TEST(PlannerJerk, RandomNearReversalsEndWithinTheLimits) {
+  for (std::uint64_t seed = 1; seed < 201; ++seed) {
+    std::mt19937_64 rng(seed * 6151);
+    std::uniform_real_distribution<double> u(0, 1);
+    MachineLimits lim = random_jerk_limits(rng, u);
+    lim.period_s = std::array{0.00025, 0.0005, 0.001, 0.002}[rng() % 4];
+    const double tol = std::pow(10.0, -3 + 2.3 * u(rng));
+    const double off = std::pow(10.0, -6 + 4 * u(rng));
+    const core::Vec c = xyz(10 + 20 * u(rng), 0, 0);
+    const std::vector<PathRequest> reqs{line_req(xyz(0, 0), c, 20 + 100 * u(rng), 0, tol),
+                                        line_req(c, xyz(c[0] * u(rng), off, 0), 5 + 100 * u(rng), 1, tol)};
+    const auto res = run_path(lim, reqs, 16, {}, {}, 2'000'000);
+    const std::string what = "seed " + std::to_string(seed);
+    expect_within(res, tol, what.c_str());
+    EXPECT_EQ(res.end, reqs.back().geom.end) << what;
+    if (HasFailure()) break;
+  }
+}
