@@ -65,20 +65,44 @@ SegmentResult make_rational_bezier(std::span<const Vec> ctrl, std::span<const do
   return build(ctrl, weights, err, false);  // not split: its table's error estimate is not needed
 }
 
-CurveError append_rational_bezier(std::vector<Segment>& out, std::span<const Vec> ctrl, std::span<const double> weights,
-                                  int depth) {
-  double err = 0;
-  SegmentResult r = build(ctrl, weights, err, true);
-  if (!r.ok()) return r.error;
-  if (!(err > kTableTolerance * r.segment.length) || depth >= kMaxSplitDepth) {
-    out.push_back(r.segment);
-    return CurveError::Ok;
+namespace {
+// Where the curve's tangent reverses inside (0, 1) at a cusp (the control points double back along
+// a line: C'(u) passes through 0): found as a turn of more than a right angle within 1/64 of u, the
+// u at which it turns by bisection on the sign of C'(u)·C'(u₀), where |C'| is below 1e-3 of the
+// length; −1 where there is none. Curvature is 0 on a line that doubles back (C' ∥ C''), so the planner's sampled limits
+// cannot see such a cusp; split there, the two pieces meet as a reversal (Planner::kink_speed: a
+// stop, or a crossing within one cycle's share of every axis's acceleration and jerk).
+double cusp_param(const PolyCurve& c) {
+  constexpr int kSamples = 64;
+  Vec d0 = c.derivs(0).d1;
+  for (int k = 1; k <= kSamples; ++k) {
+    const double u1 = static_cast<double>(k) / kSamples;
+    const Vec d1 = c.derivs(u1).d1;
+    if (core::dot(d0, d1) < 0) {
+      double lo = static_cast<double>(k - 1) / kSamples, hi = u1;
+      for (int it = 0; it < 60 && hi - lo > 1e-15; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        (core::dot(c.derivs(mid).d1, d0) >= 0 ? lo : hi) = mid;
+      }
+      const double u = 0.5 * (lo + hi);
+      // A cusp only where the curve (nearly) stops there: a tight loop that keeps its speed has a
+      // finite curvature, which the sampled limits see.
+      if (!(core::norm(c.derivs(u).d1) <= 1e-3 * c.length())) return -1.0;
+      return u > 1e-9 && u < 1 - 1e-9 ? u : -1.0;
+    }
+    if (core::norm(d1) > 0) d0 = d1;
   }
-  // de Casteljau at ½ in homogeneous coordinates: the left half takes the first point of every
-  // level, the right half the last; both halves share the middle point exactly.
+  return -1.0;
+}
+
+// de Casteljau at t in homogeneous coordinates: the left piece takes the first point of every
+// level, the right piece the last; both share the point at t exactly.
+void split_bezier(std::span<const Vec> ctrl, std::span<const double> weights, double t,
+                  std::array<Vec, kMaxBezierDegree + 1>& lp, std::array<double, kMaxBezierDegree + 1>& lw,
+                  std::array<Vec, kMaxBezierDegree + 1>& rp, std::array<double, kMaxBezierDegree + 1>& rw) {
   const std::size_t n = ctrl.size() - 1;
-  std::array<Vec, kMaxBezierDegree + 1> hp, lp, rp;
-  std::array<double, kMaxBezierDegree + 1> w = {}, lw, rw;
+  std::array<Vec, kMaxBezierDegree + 1> hp;
+  std::array<double, kMaxBezierDegree + 1> w = {};
   for (std::size_t i = 0; i <= n; ++i) {
     hp[i] = ctrl[i] * weights[i];
     w[i] = weights[i];
@@ -89,8 +113,8 @@ CurveError append_rational_bezier(std::vector<Segment>& out, std::span<const Vec
     rp[n - lvl] = hp[n - lvl];
     rw[n - lvl] = w[n - lvl];
     for (std::size_t i = 0; i + lvl < n; ++i) {
-      hp[i] = (hp[i] + hp[i + 1]) * 0.5;
-      w[i] = 0.5 * (w[i] + w[i + 1]);
+      hp[i] = hp[i] * (1 - t) + hp[i + 1] * t;
+      w[i] = (1 - t) * w[i] + t * w[i + 1];
     }
   }
   for (std::size_t i = 0; i <= n; ++i) {
@@ -100,6 +124,31 @@ CurveError append_rational_bezier(std::vector<Segment>& out, std::span<const Vec
   lp[0] = ctrl.front();
   rp[n] = ctrl.back();
   rp[0] = lp[n];
+}
+}  // namespace
+
+CurveError append_rational_bezier(std::vector<Segment>& out, std::span<const Vec> ctrl, std::span<const double> weights,
+                                  int depth) {
+  double err = 0;
+  SegmentResult r = build(ctrl, weights, err, true);
+  if (!r.ok()) return r.error;
+  // Split at a cusp (cusp_param) first; else halve while the length table is not accurate enough.
+  const double cusp = depth < kMaxSplitDepth ? cusp_param(r.segment.poly) : -1.0;
+  if (cusp < 0 && (!(err > kTableTolerance * r.segment.length) || depth >= kMaxSplitDepth)) {
+    out.push_back(r.segment);
+    return CurveError::Ok;
+  }
+  const std::size_t n = ctrl.size() - 1;
+  std::array<Vec, kMaxBezierDegree + 1> lp, rp;
+  std::array<double, kMaxBezierDegree + 1> lw, rw;
+  split_bezier(ctrl, weights, cusp < 0 ? 0.5 : cusp, lp, lw, rp, rw);
+  if (cusp >= 0 && n >= 2) {
+    // The pieces stop exactly at the cusp (C' = 0 there: their end legs collapsed, which moves the
+    // curve by about the bisection's 1e-15 of u): their tangents there are then the limits of
+    // C'/|C'| (Segment::tangent), arriving one way and leaving the other.
+    lp[n - 1] = lp[n];
+    rp[1] = rp[0];
+  }
   const CurveError e = append_rational_bezier(out, {lp.data(), n + 1}, {lw.data(), n + 1}, depth + 1);
   if (e != CurveError::Ok) return e;
   return append_rational_bezier(out, {rp.data(), n + 1}, {rw.data(), n + 1}, depth + 1);

@@ -103,10 +103,24 @@ Vec Segment::point(double s) const {
   return p;
 }
 
+namespace {
+// C' = 0 (a stationary point: tangent_curvature takes the direction of C''). At a curve's end
+// (a piece split at a cusp) the curve arrives against C'': C'(1 − ε) = −ε·C''(1).
+bool stationary(const CurveDerivs& d) {
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i)
+    if (d.d1[i] != 0) return false;
+  return true;
+}
+}  // namespace
+
 // rt-safe
 Vec Segment::tangent(double s) const {
   if (kind == SegmentKind::Line) return dir;
-  if (kind == SegmentKind::Poly) return unit_tangent(poly.derivs(poly.param_at(s)));
+  if (kind == SegmentKind::Poly) {
+    const double u = poly.param_at(s);
+    const CurveDerivs d = poly.derivs(u);
+    return u >= 1 && stationary(d) ? unit_tangent(d) * -1.0 : unit_tangent(d);
+  }
   if (length <= 0) return Vec{};
   const double f = std::clamp(s, 0.0, length) / length;
   const double th = theta0 + sweep * f;
@@ -229,6 +243,7 @@ CurveFrame Segment::frame(double s) const {
   const CurveDerivs d = poly.derivs(poly.param_at(s));
   if (s > 0 && s < length) f.point = d.c;
   tangent_curvature(d, poly.moving.data(), poly.n_moving, f.tangent, f.curvature);  // both in one pass, moving axes
+  if (s >= length && stationary(d)) f.tangent = f.tangent * -1.0;
   return f;
 }
 

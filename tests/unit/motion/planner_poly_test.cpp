@@ -5,6 +5,7 @@
 #include <random>
 
 #include "motion/geometry/bezier.hpp"
+#include "motion/geometry/nurbs.hpp"
 #include "planner_run.hpp"
 
 using namespace softmc;
@@ -113,4 +114,47 @@ TEST(PlannerPoly, RandomBezierChainsKeepEveryLimit) {
       if (HasFailure()) return;
     }
   }
+}
+
+// A NURBS whose last control points double back along X on Y = 5 (a fuzzer's G5.2 block) has a
+// cusp: C' passes through 0 and the curve reverses on a line, where the curvature is 0 on both sides
+// (C' ∥ C''), so no sampled limit saw it and the path crossed it at speed: X's jerk 627× its 60
+// mm/s³ (605× on this shorter one). The curve is now split at the cusp (append_rational_bezier), the pieces arrive and leave in
+// opposite directions (Segment::tangent at a stationary end), and the planner stops there.
+TEST(PlannerPoly, NurbsCuspIsAReversalNotCrossedAtSpeed) {
+  MachineLimits lim = xyz_limits(250, 2000);
+  for (int i = 0; i < 3; ++i) lim.axis[i].j_max_mm_s3 = 50000;
+  lim.axis[0].j_max_mm_s3 = 60;
+  const std::vector<core::Vec> ctrl = {xyz(420, 8),      xyz(425.783947, 8.220495), xyz(444.207815, 5),
+                                       xyz(438.461971, 12.380027), xyz(436.177679, 5), xyz(432.164157, 5),
+                                       xyz(440.046766, 5)};
+  const std::vector<double> w = {1, 1, 2.077, 2.9, 1, 1, 1};
+  const auto c = nurbs_g5_2(ctrl, w, 3);
+  ASSERT_TRUE(c.ok());
+  // One junction where the tangent reverses, on Y = 5 between X 432 and 440.
+  int reversals = 0;
+  for (std::size_t k = 0; k + 1 < c.segments.size(); ++k) {
+    const auto& a = c.segments[k];
+    const auto& b = c.segments[k + 1];
+    if (core::dot(a.tangent(a.length), b.tangent(0)) < -0.999) {
+      ++reversals;
+      EXPECT_NEAR(a.end[1], 5, 1e-9);
+    }
+  }
+  EXPECT_EQ(reversals, 1);
+  std::vector<PathRequest> reqs;
+  for (std::size_t k = 0; k < c.segments.size(); ++k) {
+    PathRequest r;
+    r.geom = c.segments[k];
+    r.feed_mm_s = 50;
+    r.tag = static_cast<std::uint32_t>(k);
+    r.tolerance_mm = 0.05;
+    reqs.push_back(r);
+  }
+  const auto res = run_path(lim, reqs, 64, {}, {}, 1'000'000);
+  ASSERT_TRUE(res.finished);
+  EXPECT_LE(res.fig.j_ratio, 1 + 1e-4) << res.fig.describe();
+  EXPECT_LE(res.fig.a_ratio, 1 + 1e-4) << res.fig.describe();
+  EXPECT_LE(res.fig.deviation_mm, 0.05) << res.fig.describe();
+  EXPECT_EQ(res.end, ctrl.back());
 }
