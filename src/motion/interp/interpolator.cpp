@@ -119,6 +119,12 @@ const Setpoint& Interpolator::step(double dt) {
     return sp_;
   }
   if (std::isfinite(ring.front().j_mm_s3) && !started_) return step_jerk(dt);
+  return step_trapezoid(dt);
+}
+
+// rt-safe
+const Setpoint& Interpolator::step_trapezoid(double dt) {
+  auto& ring = queue_.ring();
   if (started_) {
     const Inputs in = inputs(ring.front());
     // Braking to a hold or a stop on a curve: the law allows more as the speed falls, so the brake

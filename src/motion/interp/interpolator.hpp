@@ -124,6 +124,7 @@ class Interpolator {
   static VelocityRamp ramp_for(const Block& b, double dist, double v0, const Inputs& in);
   void rest_at_end();
   const Setpoint& step_jerk(double dt);
+  const Setpoint& step_trapezoid(double dt);  // step() on a front block without a jerk limit
 
   PlanQueue& queue_;
   InterpolatorConfig config_;

@@ -255,8 +255,15 @@ const Setpoint& Interpolator::step_jerk(double dt) {
     ring.pop();
     started_ = false;
     if (!ring.empty() && !std::isfinite(ring.front().j_mm_s3)) {
-      s_ = 0;  // a trapezoid block plans from its start at v_ (mixed profiles: the rest of the cycle is dropped)
+      // A block without a jerk limit (a Trapezoid move, or one moving only axes with j = 0) plans
+      // from its start at v_; the time this cycle ran past the end (about s_/v_) is run on it, as
+      // step() passes a trapezoid block's leftover time to the jerk follower. Dropping it dipped the
+      // speed for one cycle: 20–50 times the acceleration limit at speed (a review's exploration).
+      const double left_s = v_ > 0 ? std::min(dt, s_ / v_) : 0.0;
+      s_ = 0;
       a_ = 0;
+      cert_ = GuardVerdict{};
+      if (left_s > 0) return step_trapezoid(left_s);
       break;
     }
   }

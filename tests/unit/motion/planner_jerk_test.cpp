@@ -1720,3 +1720,35 @@ TEST(PlannerJerk, RandomNearReversalsEndWithinTheLimits) {
     if (HasFailure()) break;
   }
 }
+
+// A jerk-limited block running on into one without a jerk limit (a Trapezoid move, or a line of an
+// axis configured with j = 0) dropped the rest of the cycle that crossed into it: a one-cycle dip
+// in speed, 50 times the acceleration limit (a review's exploration). The time that cycle ran
+// past the end now runs on the next block.
+TEST(PlannerJerk, IntoABlockWithoutAJerkLimitTheCycleRunsOn) {
+  {
+    auto lim = xyz_limits(100, 1000);
+    for (int i = 0; i < 3; ++i) lim.axis[i].j_max_mm_s3 = 20000;
+    auto a = line_req(xyz(0, 0), xyz(50, 0), 50, 0);
+    auto b = line_req(xyz(50, 0), xyz(100, 0), 60, 1);
+    b.profile = ProfileKind::Trapezoid;
+    const auto res = run_path(lim, {a, b}, 16);
+    ASSERT_TRUE(res.finished);
+    EXPECT_LE(res.fig.a_ratio, 1 + 1e-4) << res.fig.describe();
+    EXPECT_EQ(res.end, xyz(100, 0));
+  }
+  for (const double deg : {10.0, 30.0, 60.0}) {
+    auto lim = xyz_limits(100, 1000);
+    lim.axis[0].j_max_mm_s3 = 20000;
+    lim.axis[1].j_max_mm_s3 = 20000;  // Z: no jerk limit
+    const double r = deg * std::numbers::pi / 180;
+    const core::Vec p1 = xyz(50, 0, 0), p2 = xyz(50 + 50 * std::cos(r), 0, 50 * std::sin(r));
+    const std::vector<PathRequest> reqs{line_req(xyz(0, 0, 0), p1, 50, 0, 0.5), line_req(p1, p2, 50, 1, 0.5),
+                                        line_req(p2, p2 + xyz(0, 0, 30), 50, 2, 0.5)};
+    const auto res = run_path(lim, reqs, 16);
+    ASSERT_TRUE(res.finished);
+    EXPECT_LE(res.fig.a_ratio, 1 + 1e-4) << deg << "°: " << res.fig.describe();
+    EXPECT_LE(res.fig.deviation_mm, 0.5 + 1e-9) << deg << "°";
+    EXPECT_EQ(res.end, reqs.back().geom.end);
+  }
+}
