@@ -416,3 +416,22 @@ TEST(Otg, PositionStopLandsWithoutAStepEvenAtATinyJerkPerCycle) {
   RecordProperty("worst_jerk_ratio", std::to_string(worst));
   RecordProperty("worst_landing_jerk_ratio", std::to_string(worst_landing));
 }
+
+// A 2 500 mm move at 10 mm/s³ and 1 ms (j·dt³ = 1e-8 mm): the last cycle used to jump by the
+// search's residual, 1.0166× the jerk (a review's exploration); stretched onto the target it stays
+// within the jerk and the rounding of positions near 2 500 mm.
+TEST(Otg, LongMoveLandsWithinTheJerk) {
+  const double dt = 0.001, j = 10;
+  Otg1 g(0);
+  ASSERT_NE(g.update(2500, {1e5, 680, j}), OtgResult::ErrorInvalidInput);
+  std::vector<double> p{0};
+  while (!g.finished()) {
+    g.step(dt);
+    p.push_back(g.state().s);
+  }
+  const std::size_t n = p.size();
+  ASSERT_GT(n, 4u);
+  EXPECT_EQ(p.back(), 2500);
+  const double last = std::abs(p[n - 1] - 3 * p[n - 2] + 3 * p[n - 3] - p[n - 4]) / (dt * dt * dt) / j;
+  EXPECT_LE(last, 1 + 8 * 2500 * std::numeric_limits<double>::epsilon() / (j * dt * dt * dt) + 1e-4);
+}
