@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "control/travel_check.hpp"
@@ -87,12 +88,21 @@ int cmd_run(const std::string& path, const MachineArgs& margs, const std::string
   app::SimOptions opt;
   ProgressBar bar(!json);
   opt.on_progress = [&](double f) { bar(f); };
+  // The summary and the CSV are made row by row: only a plot keeps the trace in memory.
+  report::SummaryBuilder builder(*prog, cfg, cfg.period_s, cfg.axis_mask());
+  std::optional<report::TraceCsvWriter> csv;
+  if (!trace_csv.empty()) csv.emplace(trace_csv, cfg.axis_mask());
+  opt.record = !plot.empty();
+  opt.on_row = [&](const report::TraceRow& row) {
+    builder.add(row);
+    if (csv) csv->add(row);
+  };
   const auto res = app::simulate(*prog, cfg, opt);
-  auto summary = report::summarize(*prog, cfg, res.trace);
+  if (csv) csv->close();
+  auto summary = builder.finish();
   summary.program = path;
   summary.machine = margs.file.empty() ? cfg.name + " (built-in)" : margs.file;
   summary.result = res.result;
-  if (!trace_csv.empty()) report::write_trace_csv(trace_csv, res.trace);
   if (!plot.empty()) report::write_plot(plot, *prog, cfg, res.trace);
   if (json) {
     std::cout << report::to_json(summary) << '\n';

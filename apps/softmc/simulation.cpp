@@ -114,14 +114,20 @@ SimResult simulate(const program::Program& prog, const machine::MachineConfig& c
     return res;
   }
   Simulation sim(prog, cfg);
-  if (opt.record) res.trace.rows.push_back(sim.row());  // t = 0: where the machine starts
+  const auto take = [&] {
+    if (!opt.record && !opt.on_row) return;
+    const report::TraceRow row = sim.row();
+    if (opt.on_row) opt.on_row(row);
+    if (opt.record) res.trace.rows.push_back(row);
+  };
+  take();  // t = 0: where the machine starts
 
   const auto max_cycles = static_cast<std::uint64_t>(opt.max_time_s / cfg.period_s);
   const double n_ins = static_cast<double>(std::max<std::size_t>(1, prog.instructions.size()));
   std::uint64_t next_progress = 0;
   while (true) {
     sim.step();
-    if (opt.record) res.trace.rows.push_back(sim.row());
+    take();
     if (opt.on_progress && sim.cycle() >= next_progress) {
       opt.on_progress(static_cast<double>(sim.setpoint().tag) / n_ins);
       next_progress = sim.cycle() + 1000;

@@ -57,7 +57,8 @@ class Simulation {
 };
 
 struct SimOptions {
-  bool record = true;                        // keep one TraceRow per cycle
+  bool record = true;                        // keep one TraceRow per cycle in SimResult::trace
+  std::function<void(const report::TraceRow&)> on_row;  // called with every row, recorded or not
   double max_time_s = 24 * 3600.0;           // a program still running then is reported as a timeout
   std::function<void(double fraction)> on_progress;  // called now and then with 0..1
 };

@@ -8,7 +8,6 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "report/programmed_path.hpp"
 
 namespace softmc::report {
 
@@ -26,56 +25,63 @@ char lower_letter(std::size_t axis) {
 
 }  // namespace
 
-Summary summarize(const program::Program& prog, const machine::MachineConfig& cfg, const Trace& trace) {
-  Summary s;
-  s.program = prog.files.empty() ? std::string{} : prog.files[0];
-  s.machine = cfg.name;
-  s.period_s = trace.period_s;
-  // A row at t = 0 records the state before the first cycle, not a cycle.
-  s.cycles = static_cast<std::uint64_t>(
-      std::count_if(trace.rows.begin(), trace.rows.end(), [](const TraceRow& r) { return r.t_s > 0; }));
-  s.axes = trace.axes;
-  // The simulation records one row per cycle and stops one cycle after the program ends (after its
-  // last motion or dwell), so the last row's time is the program's cycle time.
-  s.cycle_time_s = trace.rows.empty() ? 0.0 : trace.rows.back().t_s;
-
+SummaryBuilder::SummaryBuilder(const program::Program& prog, const machine::MachineConfig& cfg, double period_s,
+                               core::AxisMask axes)
+    : path_(programmed_path(prog)) {
+  s_.program = prog.files.empty() ? std::string{} : prog.files[0];
+  s_.machine = cfg.name;
+  s_.period_s = period_s;
+  s_.axes = axes;
   // Lengths are the programmed ones: what the part needs, not what the planner made of it.
-  const ProgrammedPath path = programmed_path(prog);
-  for (const auto& m : path.moves) {
+  for (const auto& m : path_.moves) {
     if (m.kind == MoveKind::Rapid) {
-      s.rapid_mm += m.segment.length;
+      s_.rapid_mm += m.segment.length;
     } else {
-      s.feed_mm += m.segment.length;
-      if (m.kind == MoveKind::Cut) s.cut_mm += m.segment.length;
+      s_.feed_mm += m.segment.length;
+      if (m.kind == MoveKind::Cut) s_.cut_mm += m.segment.length;
     }
   }
+}
 
-  const auto& rows = trace.rows;
-  const double dt = trace.period_s;
-  for (std::size_t r = 0; r < rows.size(); ++r) {
-    const TraceRow& row = rows[r];
-    s.max_path_deviation_mm = std::max(s.max_path_deviation_mm, path.deviation_mm(row.cmd, row.tag, row.tag_last, row.moving, s.max_path_deviation_mm));
-    s.max_path_speed_mm_s = std::max(s.max_path_speed_mm_s, row.path_v);
-    for_each_axis(trace.axes, [&](std::size_t i) {
-      AxisSummary& a = s.axis[i];
-      a.max_following_error_mm = std::max(a.max_following_error_mm, std::abs(row.cmd[i] - row.act[i]));
-      if (dt <= 0) return;
-      // Finite differences of the setpoints: the planner's own velocity is not trusted here.
-      if (r >= 1) a.max_vel_mm_s = std::max(a.max_vel_mm_s, std::abs(row.cmd[i] - rows[r - 1].cmd[i]) / dt);
-      if (r >= 2) {
-        const double d2 = row.cmd[i] - 2 * rows[r - 1].cmd[i] + rows[r - 2].cmd[i];
-        a.max_acc_mm_s2 = std::max(a.max_acc_mm_s2, std::abs(d2) / (dt * dt));
-      }
-      if (r >= 3) {
-        const double d3 = row.cmd[i] - 3 * rows[r - 1].cmd[i] + 3 * rows[r - 2].cmd[i] - rows[r - 3].cmd[i];
-        a.max_jerk_mm_s3 = std::max(a.max_jerk_mm_s3, std::abs(d3) / (dt * dt * dt));
-      }
-    });
-  }
-  for_each_axis(trace.axes, [&](std::size_t i) {
-    s.max_following_error_mm = std::max(s.max_following_error_mm, s.axis[i].max_following_error_mm);
+void SummaryBuilder::add(const TraceRow& row) {
+  Summary& s = s_;
+  // A row at t = 0 records the state before the first cycle, not a cycle.
+  if (row.t_s > 0) ++s.cycles;
+  // The simulation records one row per cycle and stops one cycle after the program ends (after its
+  // last motion or dwell), so the last row's time is the program's cycle time.
+  s.cycle_time_s = row.t_s;
+  const double dt = s.period_s;
+  const std::size_t r = rows_;
+  s.max_path_deviation_mm = std::max(s.max_path_deviation_mm, path_.deviation_mm(row.cmd, row.tag, row.tag_last, row.moving, s.max_path_deviation_mm));
+  s.max_path_speed_mm_s = std::max(s.max_path_speed_mm_s, row.path_v);
+  for_each_axis(s.axes, [&](std::size_t i) {
+    AxisSummary& a = s.axis[i];
+    a.max_following_error_mm = std::max(a.max_following_error_mm, std::abs(row.cmd[i] - row.act[i]));
+    s.max_following_error_mm = std::max(s.max_following_error_mm, a.max_following_error_mm);
+    if (dt <= 0) return;
+    // Finite differences of the setpoints: the planner's own velocity is not trusted here.
+    if (r >= 1) a.max_vel_mm_s = std::max(a.max_vel_mm_s, std::abs(row.cmd[i] - last_[0].cmd[i]) / dt);
+    if (r >= 2) {
+      const double d2 = row.cmd[i] - 2 * last_[0].cmd[i] + last_[1].cmd[i];
+      a.max_acc_mm_s2 = std::max(a.max_acc_mm_s2, std::abs(d2) / (dt * dt));
+    }
+    if (r >= 3) {
+      const double d3 = row.cmd[i] - 3 * last_[0].cmd[i] + 3 * last_[1].cmd[i] - last_[2].cmd[i];
+      a.max_jerk_mm_s3 = std::max(a.max_jerk_mm_s3, std::abs(d3) / (dt * dt * dt));
+    }
   });
-  return s;
+  last_[2] = last_[1];
+  last_[1] = last_[0];
+  last_[0] = row;
+  ++rows_;
+}
+
+Summary SummaryBuilder::finish() const { return s_; }
+
+Summary summarize(const program::Program& prog, const machine::MachineConfig& cfg, const Trace& trace) {
+  SummaryBuilder b(prog, cfg, trace.period_s, trace.axes);
+  for (const TraceRow& row : trace.rows) b.add(row);
+  return b.finish();
 }
 
 std::string to_text(const Summary& s) {

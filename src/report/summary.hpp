@@ -1,11 +1,15 @@
 // Run summary: the figures `softmc run` prints and its --json contract (docs/cli.md).
 #pragma once
 
+#include <fmt/format.h>
+
 #include <array>
+#include <cstdio>
 #include <string>
 
 #include "machine/config.hpp"
 #include "program/ir/program.hpp"
+#include "report/programmed_path.hpp"
 #include "report/trace.hpp"
 
 namespace softmc::report {
@@ -34,8 +38,43 @@ struct Summary {
   std::array<AxisSummary, core::kMaxAxes> axis{};
 };
 
-// Computes every figure from the program (the programmed geometry) and the recorded trace.
+// Computes every figure from the program (the programmed geometry) and the trace, row by row as
+// the simulation makes them: a run of hours need not keep its trace (230 B a cycle) in memory.
+class SummaryBuilder {
+ public:
+  SummaryBuilder(const program::Program& prog, const machine::MachineConfig& cfg, double period_s, core::AxisMask axes);
+  void add(const TraceRow& row);
+  Summary finish() const;
+
+ private:
+  Summary s_;
+  ProgrammedPath path_;
+  std::array<TraceRow, 3> last_{};  // the rows before, newest first
+  std::size_t rows_ = 0;
+};
+
+// The same over a recorded trace.
 Summary summarize(const program::Program& prog, const machine::MachineConfig& cfg, const Trace& trace);
+
+// The trace as CSV, row by row: t_s, then per configured axis <a>_cmd_mm, <a>_act_mm, <a>_vel_mm_s;
+// then path_v_mm_s, tool. Throws std::runtime_error when the file cannot be written.
+class TraceCsvWriter {
+ public:
+  TraceCsvWriter(const std::string& path, core::AxisMask axes);
+  ~TraceCsvWriter();
+  TraceCsvWriter(const TraceCsvWriter&) = delete;
+  TraceCsvWriter& operator=(const TraceCsvWriter&) = delete;
+  void add(const TraceRow& r);
+  void close();  // flushes and closes; throws on a write error
+
+ private:
+  void flush();
+  std::string path_;
+  std::FILE* f_ = nullptr;
+  std::array<std::size_t, core::kMaxAxes> axes_{};
+  std::size_t n_axes_ = 0;
+  fmt::memory_buffer buf_;
+};
 
 std::string to_text(const Summary& s);   // short human-readable block
 std::string to_json(const Summary& s);   // one JSON object (nlohmann-json), stable field names

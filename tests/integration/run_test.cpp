@@ -170,3 +170,28 @@ TEST(Run, SteepHelicesReportTheirDeviationWithinP) {
   EXPECT_LE(s.max_path_deviation_mm, 0.05 + 1e-9);
   EXPECT_GT(s.max_path_deviation_mm, 0.001);  // the corners are blended, not stopped at
 }
+
+// `softmc run` makes its summary and CSV row by row and keeps no trace without --plot (a run of
+// hours is 230 B a cycle): the streamed summary is the recorded trace's, figure for figure.
+TEST(Run, SummaryStreamedRowByRowIsTheRecordedOne) {
+  const auto cfg = machine::default_machine();
+  const auto prog = load("examples/thesis/rounded_rectangle.ngc");
+  const auto recorded = app::simulate(prog, cfg);
+  ASSERT_TRUE(recorded.ok) << recorded.result;
+  report::SummaryBuilder b(prog, cfg, cfg.period_s, cfg.axis_mask());
+  app::SimOptions opt;
+  opt.record = false;
+  std::uint64_t rows = 0;
+  opt.on_row = [&](const report::TraceRow& r) {
+    b.add(r);
+    ++rows;
+  };
+  const auto streamed = app::simulate(prog, cfg, opt);
+  ASSERT_TRUE(streamed.ok);
+  EXPECT_TRUE(streamed.trace.rows.empty());
+  EXPECT_EQ(rows, recorded.trace.rows.size());
+  const auto a = report::summarize(prog, cfg, recorded.trace), s = b.finish();
+  EXPECT_EQ(report::to_json(a), report::to_json(s));
+  EXPECT_GT(s.cycles, 1000u);
+  EXPECT_GT(s.axis[0].max_jerk_mm_s3, 0);
+}
