@@ -1614,6 +1614,13 @@ TEST(PlannerJerk, SubNanometreMovesBetweenExactStopsKeepTheJerk) {
   }
 }
 
+// A seeded random run: every limit and P kept, ending exactly on the last point.
+static void expect_run_within(const RunResult& res, const std::vector<PathRequest>& reqs, double tol, std::uint64_t seed) {
+  const std::string what = "seed " + std::to_string(seed);
+  expect_within(res, tol, what.c_str());
+  EXPECT_EQ(res.end, reqs.back().geom.end) << what;
+}
+
 // CAM zigzags of a few nanometres (a 0.1 µm step back and on again, printed rounding of a polyline)
 // make blocks of 1e-8 mm whose caps are a few 1e-4 mm/s: one cycle at full jerk from rest passes
 // them far too fast. The fallback brake came to rest 6e-8 to 2.4e-7 mm before such a block and no
@@ -1667,9 +1674,7 @@ TEST(PlannerJerk, RandomNanometreZigzagsEndWithinTheLimits) {
       r.feed_mm_s = feed;
     });
     const auto res = run_path(lim, reqs, 3 + rng() % 64, {}, {}, 2'000'000);
-    const std::string what = "seed " + std::to_string(seed);
-    expect_within(res, tol, what.c_str());
-    EXPECT_EQ(res.end, reqs.back().geom.end) << what;
+    expect_run_within(res, reqs, tol, seed);
     if (HasFailure()) break;
   }
 }
@@ -1714,9 +1719,7 @@ TEST(PlannerJerk, RandomNearReversalsEndWithinTheLimits) {
     const std::vector<PathRequest> reqs{line_req(xyz(0, 0), c, 20 + 100 * u(rng), 0, tol),
                                         line_req(c, xyz(c[0] * u(rng), off, 0), 5 + 100 * u(rng), 1, tol)};
     const auto res = run_path(lim, reqs, 16, {}, {}, 2'000'000);
-    const std::string what = "seed " + std::to_string(seed);
-    expect_within(res, tol, what.c_str());
-    EXPECT_EQ(res.end, reqs.back().geom.end) << what;
+    expect_run_within(res, reqs, tol, seed);
     if (HasFailure()) break;
   }
 }
