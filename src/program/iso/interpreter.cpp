@@ -474,7 +474,8 @@ std::optional<LineError> Exec::stops() {
         break;
       case 2:
       case 30:
-        if (st.motion == Motion::Nurbs) return error(m.col, "program end inside an open G5.2 block: close it with G5.3");
+        if (st.motion == Motion::Nurbs && !st.nurbs_uncertain)
+          return error(m.col, "program end inside an open G5.2 block: close it with G5.3");
         if (st.comp != Comp::Off) out.comp = BlockOutput::CompChange{out.ops.size(), false};
         emit(MFunction{m.number, group});
         emit(ProgramEnd{m.number == 30});

@@ -69,6 +69,7 @@ struct ModalState {
   // reported again. The program is already refused, so what these blocks emit does not matter.
   bool feed_uncertain = false;
   bool motion_uncertain = false;
+  bool nurbs_uncertain = false;  // a G5.3 failed: its block's end inside the program is not reported again
 };
 
 }  // namespace softmc::program::iso

@@ -268,7 +268,15 @@ class ProgramReader {
     const std::size_t made = instructions_made();
     interp_.max_ops = made < instruction_limit() ? instruction_limit() - made : 0;
     const core::Vec before = state_.position;
-    if (auto e = execute(block_, state_, params_, interp_, out_)) return fail(f, pc, line, std::move(*e));
+    if (auto e = execute(block_, state_, params_, interp_, out_)) {
+      // A G5.3 that failed (a missing feed, a bad curve) leaves its block open, so that a later G5.3
+      // may still close it; the program's end inside it would only echo that failure, as the end of
+      // the file would echo an M2/M30 refused inside the block.
+      bool ends = false;
+      for (std::size_t k = 0; k < block_.m_count; ++k) ends = ends || block_.m[k].number == 2 || block_.m[k].number == 30;
+      if ((block_.nurbs_end || ends) && state_.motion == Motion::Nurbs) state_.nurbs_uncertain = true;
+      return fail(f, pc, line, std::move(*e));
+    }
     emit_messages(f, pc, block_.col);
     for (const auto& [n, v] : out_.param_writes) params_.set(n, v);
     if (out_.m66) params_.set_runtime_only(kM66Result);
@@ -618,7 +626,7 @@ class ProgramReader {
   }
 
   void finish() {
-    if (state_.motion == Motion::Nurbs && !state_.ended && !done_)
+    if (state_.motion == Motion::Nurbs && !state_.ended && !done_ && !state_.nurbs_uncertain)
       add_error(0, files_[0]->lines.size() - 1, 1, "the program ends inside a G5.2 block: close it with G5.3");
     if (comp_.active()) {
       comp_out_.clear();

@@ -126,6 +126,16 @@ TEST(IsoDiagnostics, AFailedFeedWordIsNotReportedAgainAsMissingFeed) {
   EXPECT_EQ(parse_errors("G12 X1\nX2\nX3\n"), std::vector<std::string>{"t.ngc:1:1: error: unsupported G code G12"});
 }
 
+TEST(IsoDiagnostics, AFailedG5_3IsNotEchoedAtTheEnd) {
+  // The G5.3 fails for the missing feed; its block's end inside the program must not be reported
+  // twice more (once on a line after the last: a fuzzer's program).
+  EXPECT_EQ(parse_errors("G0 X5 Y5\nG5.2 X10 Y-20 L3\nX20 Y5\nG5.3\nM30\n"),
+            std::vector<std::string>{"t.ngc:4:1: error: feed rate missing: program an F word before the first feed move"});
+  EXPECT_EQ(parse_errors("G0 X5 Y5\nG5.2 X10 Y-20 L3\nX20 Y5\nG5.3\n").size(), 1u);  // no M30
+  // A G5.2 left open without a failing G5.3 is still reported.
+  EXPECT_EQ(parse_errors("G0 X5 Y5 F60\nG5.2 X10 Y-20 L3\nX20 Y5\nM30\n").size(), 1u);
+}
+
 TEST(IsoDiagnostics, NoProgramWhenAnyError) {
   const auto r = iso::parse("G0 X1\nG1 X2 F60\nG0 Q1\n", "t.ngc");
   EXPECT_FALSE(r.program);
