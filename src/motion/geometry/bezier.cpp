@@ -127,21 +127,41 @@ void split_bezier(std::span<const Vec> ctrl, std::span<const double> weights, do
 }
 }  // namespace
 
+bool split_pays(const Segment& whole, const Segment& left, const Segment& right) {
+  const auto k3 = [](const Segment& g) { return g.poly.jerk_speed_term(); };
+  const double k3_low = std::min(k3(left), k3(right)), k_low = std::min(left.poly.max_curvature, right.poly.max_curvature);
+  return k3_low < 0.25 * k3(whole) || k_low < 0.4 * whole.poly.max_curvature;
+}
+
 CurveError append_rational_bezier(std::vector<Segment>& out, std::span<const Vec> ctrl, std::span<const double> weights,
                                   int depth) {
+  constexpr int kPaySplitDepth = 4;          // halvings for a lower cap at most (split_pays) ...
+  constexpr double kPaySplitMin_mm = 0.25;   // ... down to pieces twice this long
   double err = 0;
   SegmentResult r = build(ctrl, weights, err, true);
   if (!r.ok()) return r.error;
-  // Split at a cusp (cusp_param) first; else halve while the length table is not accurate enough.
+  // Split at a cusp (cusp_param) first; else halve while the length table is not accurate enough,
+  // or while that lowers the cap of one half enough (split_pays).
   const double cusp = depth < kMaxSplitDepth ? cusp_param(r.segment.poly) : -1.0;
-  if (cusp < 0 && (!(err > kTableTolerance * r.segment.length) || depth >= kMaxSplitDepth)) {
-    out.push_back(r.segment);
-    return CurveError::Ok;
-  }
   const std::size_t n = ctrl.size() - 1;
   std::array<Vec, kMaxBezierDegree + 1> lp, rp;
   std::array<double, kMaxBezierDegree + 1> lw, rw;
-  split_bezier(ctrl, weights, cusp < 0 ? 0.5 : cusp, lp, lw, rp, rw);
+  if (cusp < 0 && (!(err > kTableTolerance * r.segment.length) || depth >= kMaxSplitDepth)) {
+    if (depth >= kPaySplitDepth || !(r.segment.length > 2 * kPaySplitMin_mm)) {
+      out.push_back(r.segment);
+      return CurveError::Ok;
+    }
+    split_bezier(ctrl, weights, 0.5, lp, lw, rp, rw);
+    double e = 0;
+    const SegmentResult left = build({lp.data(), n + 1}, {lw.data(), n + 1}, e, false);
+    const SegmentResult right = build({rp.data(), n + 1}, {rw.data(), n + 1}, e, false);
+    if (!left.ok() || !right.ok() || !split_pays(r.segment, left.segment, right.segment)) {
+      out.push_back(r.segment);
+      return CurveError::Ok;
+    }
+  } else {
+    split_bezier(ctrl, weights, cusp < 0 ? 0.5 : cusp, lp, lw, rp, rw);
+  }
   if (cusp >= 0 && n >= 2) {
     // The pieces stop exactly at the cusp (C' = 0 there: their end legs collapsed, which moves the
     // curve by about the bisection's 1e-15 of u): their tangents there are then the limits of

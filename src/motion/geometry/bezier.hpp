@@ -65,9 +65,17 @@ struct BezierPower {
   }
 };
 
-// Configuration time: appends the rational Bézier as one segment, or as consecutive halves (de
-// Casteljau at u = ½, recursively) while a piece's length table is not accurate to
-// kTableTolerance (near-cusps). Splines and NURBS build their segments with it.
+// Whether splitting `whole` into `left` and `right` pays: the planner gives each piece one speed
+// cap, from its largest curvature κ and jerk term |dκ/ds|, so a long piece whose bend is all at one
+// end would crawl along its whole length at the cap of that end. It pays when one half has under a
+// quarter of the whole's |dκ/ds| or under 0.4 of its κ (a cap at least 1.6 times higher, whatever
+// the machine).
+bool split_pays(const Segment& whole, const Segment& left, const Segment& right);
+
+// Configuration time: appends the rational Bézier as one segment, or as consecutive pieces (de
+// Casteljau, recursively): split at a cusp; halved while a piece's length table is not accurate to
+// kTableTolerance (near-cusps); halved while that pays (split_pays), down to pieces of 0.25 mm, at
+// most four times. Splines and NURBS build their segments with it.
 CurveError append_rational_bezier(std::vector<Segment>& out, std::span<const Vec> ctrl, std::span<const double> weights,
                                   int depth = 0);
 

@@ -27,11 +27,8 @@ double turn(const Vec& a, const Vec& b, const Vec& c) {
 }
 
 // Appends the cubic piece c, or its two halves (de Casteljau at ½: the same curve, split exactly),
-// each again split while that pays: the planner gives each piece one speed cap, from the piece's
-// largest curvature κ and jerk term |dκ/ds| (of the curvature vector), so a long piece whose bend is all at one end
-// (a long line meeting short ones) would crawl along its whole length at the cap of its end. A
-// split is kept when one half has under a quarter of the whole's |dκ/ds| or under 0.4 of its
-// κ (a cap at least 1.6 times higher, whatever the machine), down to pieces of min_length.
+// each again split while that pays (split_pays: a long line meeting short ones bends at one end),
+// down to pieces of min_length.
 void append_piece(std::vector<Segment>& out, const std::array<Vec, 4>& c, const PolylineSmoothing& cfg, int depth,
                   const Segment* built = nullptr) {
   const Segment whole = built ? *built : make_cubic_bezier(c[0], c[1], c[2], c[3]);
@@ -44,9 +41,7 @@ void append_piece(std::vector<Segment>& out, const std::array<Vec, 4>& c, const 
   const std::array<Vec, 4> lc{c[0], m01, l2, mid}, rc{mid, r1, m23, c[3]};
   const Segment left = make_cubic_bezier(lc[0], lc[1], lc[2], lc[3]);
   const Segment right = make_cubic_bezier(rc[0], rc[1], rc[2], rc[3]);
-  const auto k3 = [](const Segment& g) { return g.poly.jerk_speed_term(); };
-  const double k3_low = std::min(k3(left), k3(right)), k_low = std::min(left.poly.max_curvature, right.poly.max_curvature);
-  if (!(k3_low < 0.25 * k3(whole)) && !(k_low < 0.4 * whole.poly.max_curvature)) {
+  if (!split_pays(whole, left, right)) {
     out.push_back(whole);
     return;
   }

@@ -5,6 +5,7 @@
 #include <numbers>
 #include <vector>
 
+#include "motion/geometry/bezier.hpp"
 #include "motion/geometry/nurbs.hpp"
 
 using namespace softmc;
@@ -88,6 +89,29 @@ TEST(GeometryNurbs, FullCircleFromNinePoints) {
   EXPECT_NEAR(total / (2 * std::numbers::pi) - 1, 0, 1e-9);
 }
 
+// The pieces of a NURBS against de Boor's algorithm: at least one per non-empty knot span (halved
+// where a cusp, the length table or a lower speed cap asks for it: append_rational_bezier), chained
+// end to start, every interior knot's point a piece's end, and 20 points of every span on a piece.
+static void expect_pieces_on_de_boor(const CurveResult& r, const std::vector<core::Vec>& c, const std::vector<double>& w,
+                                     const std::vector<double>& knots, int degree) {
+  std::vector<double> spans;
+  for (std::size_t k = static_cast<std::size_t>(degree); k + static_cast<std::size_t>(degree) < knots.size(); ++k)
+    if (spans.empty() || knots[k] > spans.back()) spans.push_back(knots[k]);
+  ASSERT_GE(r.segments.size(), spans.size() - 1);
+  for (std::size_t k = 0; k + 1 < r.segments.size(); ++k) EXPECT_EQ(r.segments[k].end, r.segments[k + 1].start);
+  const auto nearest = [&](const core::Vec& p, bool ends) {
+    double d = 1e9;
+    for (const auto& g : r.segments) d = std::min(d, ends ? core::distance(g.end, p) : g.distance_to(p));
+    return d;
+  };
+  for (std::size_t j = 0; j + 1 < spans.size(); ++j) {
+    if (j > 0) EXPECT_LT(nearest(nurbs_point(c, w, knots, degree, spans[j]), true), 1e-12) << "knot " << spans[j];
+    for (int i = 0; i <= 20; ++i)
+      EXPECT_LT(nearest(nurbs_point(c, w, knots, degree, spans[j] + i / 20.0 * (spans[j + 1] - spans[j])), false), 1e-12)
+          << "span " << j << " at " << i / 20.0;
+  }
+}
+
 TEST(GeometryNurbs, G5_2_LinuxCncExampleMatchesDeBoor) {
   // G0 X0 Y0 / G5.2 P1 L3 / X0 Y1 P1 / X2 Y2 P1 / X2 Y0 P1 / X0 Y0 P2 / G5.3
   const std::vector<core::Vec> c{xy(0, 0), xy(0, 1), xy(2, 2), xy(2, 0), xy(0, 0)};
@@ -96,18 +120,7 @@ TEST(GeometryNurbs, G5_2_LinuxCncExampleMatchesDeBoor) {
   EXPECT_EQ(knots, (std::vector<double>{0, 0, 0, 1, 2, 3, 3, 3}));
   const auto r = nurbs_g5_2(c, w, 3);
   ASSERT_TRUE(r.ok());
-  ASSERT_EQ(r.segments.size(), 3u);  // one per knot span
-  for (std::size_t j = 0; j < 3; ++j) {
-    // Piece j is the span [j, j+1]; its Bézier parameter is the knot parameter shifted.
-    for (int i = 0; i <= 20; ++i) {
-      const double uu = i / 20.0;
-      const auto ref = nurbs_point(c, w, knots, 2, static_cast<double>(j) + uu);
-      EXPECT_LT(core::distance(r.segments[j].poly.at(uu), ref), 1e-12) << j << " " << uu;
-    }
-    if (j > 0) {
-      EXPECT_EQ(r.segments[j - 1].end, r.segments[j].start);
-    }
-  }
+  expect_pieces_on_de_boor(r, c, w, knots, 2);
   EXPECT_EQ(r.segments.front().start, c.front());
   EXPECT_EQ(r.segments.back().end, c.back());
 }
@@ -118,14 +131,7 @@ TEST(GeometryNurbs, CubicNurbsWithUnevenKnotsMatchesDeBoor) {
   const std::vector<double> u{0, 0, 0, 0, 0.1, 0.5, 0.5, 1.3, 1.3, 1.3, 1.3};
   const auto r = nurbs(c, w, 3, u);
   ASSERT_TRUE(r.ok()) << to_string(r.error);
-  ASSERT_EQ(r.segments.size(), 3u);
-  const double spans[4] = {0, 0.1, 0.5, 1.3};
-  for (std::size_t j = 0; j < 3; ++j)
-    for (int i = 0; i <= 20; ++i) {
-      const double uu = i / 20.0;
-      const auto ref = nurbs_point(c, w, u, 3, spans[j] + uu * (spans[j + 1] - spans[j]));
-      EXPECT_LT(core::distance(r.segments[j].poly.at(uu), ref), 1e-12);
-    }
+  expect_pieces_on_de_boor(r, c, w, u, 3);
 }
 
 TEST(GeometryNurbs, RejectsBadInput) {
@@ -134,4 +140,23 @@ TEST(GeometryNurbs, RejectsBadInput) {
   EXPECT_EQ(nurbs_g5_2(c, std::vector<double>{1, 1, 1}, 4).error, CurveError::TooFewPoints);
   EXPECT_EQ(nurbs_g5_2(c, std::vector<double>{1, 1, 1}, 9).error, CurveError::BadDegree);
   EXPECT_EQ(nurbs(c, std::vector<double>{1, 1, 1}, 2, std::vector<double>{0, 0, 1, 1, 1, 1}).error, CurveError::BadKnots);
+}
+
+// A 100 mm span whose bend is all at its end (a fuzzer's NURBS crawled minutes at the cap of that
+// end): halved while one half gets a far lower curvature (split_pays, as the smoothing's pieces),
+// so the planner's one cap per piece is that of the bend only where it is.
+TEST(GeometryNurbs, ALongPieceBentAtOneEndIsSplit) {
+  const std::vector<core::Vec> c{xy(0, 0), xy(60, 0), xy(100, 0), xy(100, 2)};
+  const std::vector<double> w{1, 1, 1, 1};
+  const auto whole = make_rational_bezier(c, w);
+  ASSERT_TRUE(whole.ok());
+  const auto r = nurbs(c, w, 3, std::vector<double>{0, 0, 0, 0, 1, 1, 1, 1});
+  ASSERT_TRUE(r.ok());
+  ASSERT_GT(r.segments.size(), 2u);
+  EXPECT_LT(r.segments.front().poly.max_curvature, 0.4 * whole.segment.poly.max_curvature);
+  // The bend stays in the last piece (the curvature is sampled: within a percent).
+  EXPECT_NEAR(r.segments.back().poly.max_curvature, whole.segment.poly.max_curvature, 0.01 * whole.segment.poly.max_curvature);
+  double length = 0;
+  for (const auto& g : r.segments) length += g.length;
+  EXPECT_NEAR(length, whole.segment.length, 1e-9 * whole.segment.length);
 }
