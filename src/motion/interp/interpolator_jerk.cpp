@@ -90,6 +90,11 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   const double stop_v = std::max({v_, vt, 1e-6});  // a position-mode stop's speed limit
   double stop_at = 0, stop_vmax = 0;  // its point (from now) and speed limit
   double ramp_u = 0;   // the speed of the ramp to a speed limit the first candidate missed, when it is one
+  // A ramp to the speed limit u is a candidate down to it, or, from rest, up to it: a few nanometres
+  // before a tiny block whose cap is far below what one cycle at full jerk reaches, no other
+  // candidate moves at all. (Ramping up to it while moving was tried: greedy, surfacing.ngc 0.3 %
+  // slower.)
+  const auto ramp_to = [&](double u) { return u > 0 && (u < v_ || (v_ == 0 && a_ == 0)); };
   // A position-mode stop on the point `at` ahead, no faster than vmax (the stop plan kept while it is taken).
   const auto stop_step = [&](double at, double vmax) {
     double a_s = 0, j_s = 0;
@@ -112,10 +117,7 @@ const Setpoint& Interpolator::step_jerk(double dt) {
     std::size_t m = 0;
     if (first.stop_binds && first.fail_at_mm > 0) {
       cand[m++] = stop_step(first.fail_at_mm, stop_v);
-    } else if (first.fail_u_mm_s > 0 && (first.fail_u_mm_s < v_ || (v_ == 0 && a_ == 0))) {
-      // Down to the speed the ramp missed; or, from rest, up to it: a few nanometres before a tiny
-      // block whose cap is far below what one cycle at full jerk reaches, no other candidate moves
-      // at all. (Ramping up to it while moving was tried: greedy, surfacing.ngc 0.3 % slower.)
+    } else if (ramp_to(first.fail_u_mm_s)) {
       ramp_u = first.fail_u_mm_s;
       cand[m++] = ramp_cycle(now, ramp_u, a_c, j_c, dt);
     }
@@ -179,8 +181,7 @@ const Setpoint& Interpolator::step_jerk(double dt) {
         cand[i] = stop_step(v.fail_at_mm, stop ? stop_vmax : stop_v);
       } else if (stop && !v.stop_binds && v.fail_u_mm_s > 0 && v.fail_u_mm_s < stop_vmax) {
         cand[i] = stop_step(stop_at, v.fail_u_mm_s);  // the same stop, no faster than that limit
-      } else if (!v.stop_binds && v.fail_u_mm_s > 0 && (v.fail_u_mm_s < v_ || (v_ == 0 && a_ == 0)) &&
-                 (ramp_u == 0 || v.fail_u_mm_s < ramp_u)) {
+      } else if (!v.stop_binds && ramp_to(v.fail_u_mm_s) && (ramp_u == 0 || v.fail_u_mm_s < ramp_u)) {
         ramp_u = v.fail_u_mm_s;
         cand[i] = ramp_cycle(now, ramp_u, a_c, j_c, dt);
       } else {
@@ -221,14 +222,13 @@ const Setpoint& Interpolator::step_jerk(double dt) {
     // of them within J·dt³/8 of path, J the least path jerk on the way, is taken as one step, no
     // further than an exact stop. Per axis that is at most j_i·dt³/8 (J·|t_i| ≤ j_i on every block
     // kind and the chord is no longer than the path), as the rest onto a stop above.
+    const double dt3 = dt * dt * dt;
     double d = left, jmin = f.j_mm_s3, to = -1;
-    for (std::size_t k = 0;; ++k) {
-      if (d <= jmin * dt * dt * dt / 8) to = d;
-      if (k + 1 >= ring.size() || ring.at(k + 1).v2_junction <= 0 || !std::isfinite(ring.at(k + 1).j_mm_s3)) break;
-      const Block& b = ring.at(k + 1);
-      jmin = std::min(jmin, b.j_mm_s3);
-      d += b.length;
-      if (!(d <= jmin * dt * dt * dt / 8)) break;
+    for (std::size_t k = 1; d <= jmin * dt3 / 8; ++k) {
+      to = d;
+      if (k >= ring.size() || ring.at(k).v2_junction <= 0 || !std::isfinite(ring.at(k).j_mm_s3)) break;
+      jmin = std::min(jmin, ring.at(k).j_mm_s3);
+      d += ring.at(k).length;
     }
     if (to > 0) s_ += to;
   }
