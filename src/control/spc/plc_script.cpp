@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "control/spc/script_text.hpp"
+#include "control/script_text.hpp"
 #include "control/spc/task.hpp"
 
 namespace softmc::control::spc {

@@ -1,7 +1,7 @@
 // Parser and player for SPC input stimulus files (format in stimulus.hpp and docs/spc.md).
 #include "control/spc/stimulus.hpp"
 
-#include "control/spc/script_text.hpp"
+#include "control/script_text.hpp"
 
 #include <charconv>
 #include <cmath>

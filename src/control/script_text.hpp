@@ -1,5 +1,5 @@
-// The timed script formats (stimulus files, PLC orders files): lines of whitespace-separated fields
-// starting with a time, `#` comments; one tokenizer and time check so both formats read alike.
+// The timed script formats (stimulus files of SPC and G-code runs, PLC orders files): lines of
+// whitespace-separated fields starting with a time, `#` comments; one tokenizer and time check for all.
 #pragma once
 
 #include <cstdint>
@@ -10,7 +10,7 @@
 
 #include "core/diagnostic.hpp"
 
-namespace softmc::control::spc::script {
+namespace softmc::control::script {
 
 inline constexpr double kTimeEpsS = 1e-9;
 
@@ -48,4 +48,4 @@ std::optional<std::string> read_time(const Field& f, double& last_t, double& t);
 // The whole file as text, or nothing (the caller reports "cannot read").
 std::optional<std::string> read_file(const std::string& path);
 
-}  // namespace softmc::control::spc::script
+}  // namespace softmc::control::script

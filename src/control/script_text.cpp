@@ -1,12 +1,12 @@
 // Shared reading of the timed script formats.
-#include "control/spc/script_text.hpp"
+#include "control/script_text.hpp"
 
 #include <charconv>
 #include <cmath>
 #include <fstream>
 #include <sstream>
 
-namespace softmc::control::spc::script {
+namespace softmc::control::script {
 
 std::vector<Field> fields_of(std::string_view line) {
   std::vector<Field> out;
@@ -53,4 +53,4 @@ std::optional<std::string> read_file(const std::string& path) {
   return ss.str();
 }
 
-}  // namespace softmc::control::spc::script
+}  // namespace softmc::control::script
