@@ -81,11 +81,20 @@ class ProgressBar {
 };
 
 int cmd_run(const std::string& path, const MachineArgs& margs, const std::string& plot, const std::string& trace_csv,
-            bool json) {
+            bool json, const std::string& stimulus_file) {
   const auto cfg = margs.load();
   const auto prog = load_program(path, cfg);
+  // The PLC's motion signals over time (docs/cli.md): checked whole before anything moves.
+  std::optional<control::ChannelStimulus> stimulus;
+  if (!stimulus_file.empty()) {
+    auto st = control::load_channel_stimulus(stimulus_file, cfg.axis_mask());
+    for (const auto& d : st.diagnostics) std::cerr << d.format() << '\n';
+    if (!st.stimulus) return 1;
+    stimulus = std::move(st.stimulus);
+  }
   if (!prog) return 1;
   app::SimOptions opt;
+  if (stimulus) opt.stimulus = &*stimulus;
   ProgressBar bar(!json);
   opt.on_progress = [&](double f) { bar(f); };
   // The summary and the CSV are made row by row: only a plot keeps the trace in memory.
@@ -112,6 +121,7 @@ int cmd_run(const std::string& path, const MachineArgs& margs, const std::string
     if (!plot.empty()) std::cout << "plot         " << plot << '\n';
   }
   if (!res.ok) std::cerr << "softmc: run stopped: " << res.result << '\n';
+  else if (res.stopped && !json) std::cerr << "softmc: " << res.result << '\n';
   return res.ok ? 0 : 2;
 }
 
@@ -186,7 +196,9 @@ int main(int argc, char** argv) {
   run->add_option("--mode", spc_args.mode, "SPC: start-stop or record-select");
   run->add_option("--task-a", spc_args.task_a, "SPC: start/record program of task A (0..99)");
   run->add_option("--task-b", spc_args.task_b, "SPC: start/record program of task B (0..99)");
-  run->add_option("--stimulus", spc_args.stimulus, "SPC: input stimulus file (time, signal, value)");
+  run->add_option("--stimulus", spc_args.stimulus,
+                  "timed signal writes (time, signal, value): SPC input terminals, or for G-code the motion "
+                  "signals (feed_override_permille, feed_hold, axis_enable[X], stop_request, ...)");
   run->add_option("--plc", spc_args.plc, "SPC: orders file for the reference PLC of S-10 (time, task, line)");
   run->add_option("--registers", spc_args.registers, "SPC: SQLite file of the retentive registers (:memory: = none)");
   run->add_option("--until", spc_args.until_s, "SPC: run this many seconds of virtual time");
@@ -223,7 +235,7 @@ int main(int argc, char** argv) {
       spc_args.machine_label = run_m.file.empty() ? "cutting_table (built-in)" : run_m.file;
       return app::run_spc_command(spc_args, run_m.load());
     }
-    if (*run) return cmd_run(run_prog, run_m, plot, trace_csv, json);
+    if (*run) return cmd_run(run_prog, run_m, plot, trace_csv, json, spc_args.stimulus);
     if (*check) return cmd_check(check_progs, check_m);
     if (*moves) return cmd_moves(moves_prog, moves_m);
     if (*config) {

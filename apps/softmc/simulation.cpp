@@ -25,13 +25,15 @@ motion::PlannerConfig planner_config(const machine::MachineConfig& cfg) {
 motion::InterpolatorConfig interpolator_config(const machine::MachineConfig& cfg) {
   motion::InterpolatorConfig ic;
   ic.max_feed_override = cfg.planner.max_feed_override;
+  ic.emergency_accel_scale = cfg.planner.emergency_accel_scale;
   ic.max_horizon_blocks = static_cast<int>(cfg.planner_window());
   ic.guard_simulate = cfg.planner.jerk_guard_simulate;
   return ic;
 }
 }  // namespace
 
-Simulation::Simulation(const program::Program& prog, const machine::MachineConfig& cfg)
+Simulation::Simulation(const program::Program& prog, const machine::MachineConfig& cfg,
+                       const control::ChannelStimulus* stimulus)
     : prog_(prog),
       cfg_(cfg),
       planner_(cfg.limits(), cfg.planner_window(), planner_config(cfg)),
@@ -39,6 +41,7 @@ Simulation::Simulation(const program::Program& prog, const machine::MachineConfi
       channel_(planner_, interp_),
       exec_(cfg.period_s) {
   channel_.load(prog);
+  if (stimulus) player_.emplace(*stimulus);
   // One drive per configured axis; the machine starts where the program assumes.
   for (const auto& a : cfg_.axes)
     if (a.enabled) drives_[a.index] = std::make_unique<machine::SimDrive>(a, prog.start[a.index]);
@@ -46,6 +49,9 @@ Simulation::Simulation(const program::Program& prog, const machine::MachineConfi
   // The cycle's fixed order (docs/code_flow.md). The drives are read implicitly: SimDrive keeps its
   // measured position from the last write, which is what a real drive's feedback would deliver.
   exec_.add("update", [this](const runtime::CycleClock& c) {
+    // The PLC's writes due by this cycle's start take effect now, at the cycle boundary.
+    if (player_) player_->apply(c.t_s, signals_);
+    channel_.apply(signals_);
     channel_.update(c.dt_s);
     interp_.step(c.dt_s);
   });
@@ -80,12 +86,40 @@ void Simulation::supervise(const runtime::CycleClock& c) {
   if (channel_.state() == control::ChannelState::Fault) planner_.queue().clear();
 }
 
+namespace {
+std::string location(const program::Program& prog, std::uint32_t instruction) {
+  const auto& ins = prog.instructions;
+  const core::SourceLoc loc = ins.empty() ? core::SourceLoc{} : ins[std::min<std::size_t>(instruction, ins.size() - 1)].loc;
+  return fmt::format("{}:{}:{}", prog.files.empty() ? "" : prog.file_of(loc), loc.line, loc.col);
+}
+}  // namespace
+
 std::string Simulation::fault_text() const {
-  const auto& ins = prog_.instructions;
-  const core::SourceLoc loc =
-      ins.empty() ? core::SourceLoc{} : ins[std::min<std::size_t>(channel_.fault_instruction(), ins.size() - 1)].loc;
-  return fmt::format("{}:{}:{}: {}", prog_.files.empty() ? "" : prog_.file_of(loc), loc.line, loc.col,
-                     channel_.fault_message());
+  return fmt::format("{}: {}", location(prog_, channel_.fault_instruction()), channel_.fault_message());
+}
+
+
+bool Simulation::held_for_good() const {
+  if (player_ && !player_->finished()) return false;
+  const auto& sp = interp_.setpoint();
+  return sp.moving && sp.path_v == 0 && (interp_.halted_at_rest() || interp_.feed_override() == 0);
+}
+
+std::string Simulation::stop_text() const {
+  const char* by = channel_.stop_kind() == motion::StopKind::Emergency ? "P-5 emergency stop" : "P-5 stop";
+  return fmt::format("stopped ({}) at {}, t = {:.3f} s", by, location(prog_, channel_.stop_instruction()),
+                     time_s());
+}
+
+std::string Simulation::held_text() const {
+  std::string why;
+  const auto add = [&](const std::string& s) { why += why.empty() ? s : ", " + s; };
+  if (signals_.feed_hold) add("feed_hold is 1");
+  for (const auto& a : cfg_.axes)
+    if (a.enabled && !signals_.axis_enable[a.index]) add(fmt::format("axis_enable[{}] is 0", core::letter(a.index)));
+  if (interp_.feed_override() == 0) add("the feed override is 0");
+  return fmt::format("{}: held at rest at t = {:.3f} s ({}) and no stimulus event left to release it",
+                     location(prog_, interp_.setpoint().tag), time_s(), why);
 }
 
 report::TraceRow Simulation::row() const {
@@ -113,7 +147,7 @@ SimResult simulate(const program::Program& prog, const machine::MachineConfig& c
     res.result = travel.front().format();
     return res;
   }
-  Simulation sim(prog, cfg);
+  Simulation sim(prog, cfg, opt.stimulus);
   const auto take = [&] {
     if (!opt.record && !opt.on_row) return;
     const report::TraceRow row = sim.row();
@@ -138,6 +172,15 @@ SimResult simulate(const program::Program& prog, const machine::MachineConfig& c
     }
     if (sim.faulted()) {
       res.result = sim.fault_text();
+      break;
+    }
+    if (sim.stopped()) {
+      res.ok = res.stopped = true;
+      res.result = sim.stop_text();
+      break;
+    }
+    if (sim.held_for_good()) {
+      res.result = sim.held_text();
       break;
     }
     if (sim.cycle() >= max_cycles) {

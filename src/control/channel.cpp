@@ -18,6 +18,8 @@ const char* to_string(ChannelState s) {
     case ChannelState::Running: return "running";
     case ChannelState::Finished: return "finished";
     case ChannelState::Fault: return "fault";
+    case ChannelState::Stopping: return "stopping";
+    case ChannelState::Stopped: return "stopped";
   }
   return "?";
 }
@@ -144,8 +146,9 @@ bool Channel::push_curve(int& budget) {
 
 // rt-safe
 bool Channel::start(const core::Vec& from) {
-  if (!prog_ || state_ == ChannelState::Running || state_ == ChannelState::Fault) return false;
+  if (!prog_ || (state_ != ChannelState::Idle && state_ != ChannelState::Finished)) return false;
   pc_ = 0;
+  stop_kind_ = motion::StopKind::None;
   plan_pos_ = from;
   path_tolerance_mm_ = -1;
   dwell_left_s_ = 0;
@@ -169,7 +172,43 @@ void Channel::fault(const char* message) {
 }
 
 // rt-safe
+void Channel::apply(MotionSignals& signals) {
+  interp_.set_feed_override(signals.feed_override());
+  interp_.set_feed_hold(signals.feed_hold);
+  // P-2: the channel's path moves all its axes together, so one axis held holds the path.
+  bool enable = true;
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i)
+    if (planner_.limits().present(i) && !signals.axis_enable[i]) enable = false;
+  interp_.set_motion_enable(enable);
+  // P-5: the strongest stop asked for this cycle.
+  auto kind = motion::StopKind::None;
+  if (signals.stop_pulse && !stop_pulse_was_) kind = motion::StopKind::Normal;
+  stop_pulse_was_ = signals.stop_pulse;
+  if (signals.stop_request) kind = motion::StopKind::Normal;
+  if (signals.emergency_stop_request) kind = motion::StopKind::Emergency;
+  signals.stop_request = signals.emergency_stop_request = false;  // taken (acknowledged) or refused
+  if (kind != motion::StopKind::None) stop(kind);
+}
+
+// rt-safe
+void Channel::stop(motion::StopKind kind) {
+  if (state_ != ChannelState::Running && state_ != ChannelState::Stopping) return;
+  if (kind > stop_kind_) stop_kind_ = kind;  // an emergency stop is never weakened
+  state_ = ChannelState::Stopping;
+  dwell_left_s_ = 0;
+  interp_.request_stop(kind);
+}
+
+// rt-safe
 void Channel::update(double dt_s) {
+  if (state_ == ChannelState::Stopping) {
+    // The interpolator drops everything planned at rest; with nothing in motion there is nothing to brake.
+    if (!interp_.stopped() && !interp_.idle()) return;
+    interp_.acknowledge_stop();
+    stop_pc_ = interp_.setpoint().tag;
+    state_ = ChannelState::Stopped;
+    return;
+  }
   if (state_ != ChannelState::Running) return;
   if (dwell_left_s_ > 0) {
     dwell_left_s_ -= dt_s;

@@ -1,17 +1,22 @@
 // A Channel executes one Program: motions go to the planner, everything else waits for the
-// motion before it to finish (exact stop at non-motion instructions, for now).
+// motion before it to finish (exact stop at non-motion instructions, for now). It reads the PLC's
+// motion signals (MotionSignals: override, feed hold, axis enables, stops) and drives the
+// interpolator with them.
 #pragma once
 
 #include <cstdint>
 #include <vector>
 
+#include "control/motion_signals.hpp"
 #include "motion/interp/interpolator.hpp"
 #include "motion/planner/planner.hpp"
 #include "program/ir/program.hpp"
 
 namespace softmc::control {
 
-enum class ChannelState : std::uint8_t { Idle, Running, Finished, Fault };
+// Stopping: a stop (P-5) was taken, the path brakes to rest on itself and no instruction is executed
+// any more; Stopped: at rest, everything planned dropped. A stopped program is not resumed: load it again.
+enum class ChannelState : std::uint8_t { Idle, Running, Finished, Fault, Stopping, Stopped };
 const char* to_string(ChannelState s);
 
 class Channel {
@@ -23,7 +28,7 @@ class Channel {
   // however many sharp corners the next 64 instructions hold.
   static constexpr std::uint64_t kMaxCurvesPerCycle = 4;
 
-  Channel(motion::Planner& planner, const motion::Interpolator& interp) : planner_(planner), interp_(interp) {}
+  Channel(motion::Planner& planner, motion::Interpolator& interp) : planner_(planner), interp_(interp) {}
 
   // Not rt: binds a checked program and resets the pointer. The program must outlive the run.
   // Curves (G5/G5.1/G5.2) are expanded into segments here, because their construction allocates;
@@ -38,6 +43,10 @@ class Channel {
   void update(double dt_s);
   // rt-safe: fault from outside (a drive, a switch): the channel stops executing.
   void fault(const char* message);
+  // rt-safe: the PLC's motion signals, once per cycle before update() (P-2, P-5, P-8): they act on
+  // the interpolator's next step. Clears the acknowledged requests (stop_request,
+  // emergency_stop_request) it takes; a stop is taken only while the program runs.
+  void apply(MotionSignals& signals);
 
   ChannelState state() const { return state_; }
   std::uint32_t pc() const { return pc_; }          // next instruction to execute
@@ -47,16 +56,21 @@ class Channel {
   const char* fault_message() const { return fault_; }
   motion::PlanResult plan_error() const { return plan_error_; }
   std::uint32_t fault_instruction() const { return fault_pc_; }
+  // P-7 stop_confirmed: a running program was actually stopped; stays true until the next start.
+  bool stop_confirmed() const { return state_ == ChannelState::Stopped; }
+  motion::StopKind stop_kind() const { return stop_kind_; }  // the strongest stop taken (None: none)
+  std::uint32_t stop_instruction() const { return stop_pc_; }  // the instruction the path stopped on
 
  private:
   void fail(const char* message, motion::PlanResult r);
+  void stop(motion::StopKind kind);
   // rt-safe: pushes the precomputed segments of the curve at pc_; false while the queue is full.
   bool push_curve(int& budget);
   // rt-safe: this cycle's planning budget is spent (kMaxCurvesPerCycle curves built since it began).
   bool planning_spent() const { return planner_.curves_built() - curves_at_cycle_ >= kMaxCurvesPerCycle; }
 
   motion::Planner& planner_;
-  const motion::Interpolator& interp_;
+  motion::Interpolator& interp_;
   const program::Program* prog_ = nullptr;
   ChannelState state_ = ChannelState::Idle;
   std::uint32_t pc_ = 0;
@@ -68,6 +82,9 @@ class Channel {
   const char* fault_ = "";
   motion::PlanResult plan_error_ = motion::PlanResult::Ok;
   std::uint32_t fault_pc_ = 0;
+  motion::StopKind stop_kind_ = motion::StopKind::None;
+  std::uint32_t stop_pc_ = 0;
+  bool stop_pulse_was_ = false;  // stop_pulse in the last apply(): a stop on its rising edge only
   // Precomputed curve segments: curve_first_[i] .. curve_first_[i + 1] are instruction i's
   // (sized at load, one entry per instruction plus one).
   std::vector<motion::Segment> curve_segments_;

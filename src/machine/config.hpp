@@ -62,6 +62,7 @@ struct PlannerMachineConfig {
   double tolerance_mm = 0.05;      // G64 without P, and G23: largest distance of the path from a programmed corner
   std::size_t lookahead = 2000;    // blocks in the look-ahead window (a blended corner makes two)
   double max_feed_override = 2.0;  // P-8: the feed override is clamped to [0, this]; planned for
+  double emergency_accel_scale = 1.0;  // P-5: an emergency stop brakes with this × each axis's acceleration and jerk
   double merge_share = 0.5;        // nearly collinear lines merge while within merge_share·P (0 = off)
   double smoothing_turn_deg = 20;  // jerk mode: runs of lines turning less than this become a C² spline (0 = off)
   double fillet_share = 0.8;       // jerk mode: a line–arc–line fillet becomes one quintic where it keeps this share of the arc's cap (0 = off)

@@ -91,10 +91,11 @@ inline const std::array<ConfigKey<SpcMachineConfig>, 14> kSpcKeys{{
 }};
 
 // Keys of the [planner] table (docs/planner.md).
-inline const std::array<ConfigKey<PlannerMachineConfig>, 7> kPlannerKeys{{
+inline const std::array<ConfigKey<PlannerMachineConfig>, 8> kPlannerKeys{{
     {"tolerance_mm", &PlannerMachineConfig::tolerance_mm, ConfigRule::NonNegative},
     {"lookahead", &PlannerMachineConfig::lookahead, ConfigRule::Queue},
     {"max_feed_override", &PlannerMachineConfig::max_feed_override, ConfigRule::Positive},
+    {"emergency_accel_scale", &PlannerMachineConfig::emergency_accel_scale, ConfigRule::Positive},
     {"merge_share", &PlannerMachineConfig::merge_share, ConfigRule::UnitInterval},
     {"smoothing_turn_deg", &PlannerMachineConfig::smoothing_turn_deg, ConfigRule::NonNegative},
     {"fillet_share", &PlannerMachineConfig::fillet_share, ConfigRule::UnitInterval},

@@ -42,19 +42,23 @@ ProgrammedPath programmed_path(const program::Program& prog) {
 
 double ProgrammedPath::deviation_mm(const core::Vec& p, std::uint32_t tag, std::uint32_t tag_last, bool moving, double enough) const {
   if (tag >= before.size()) return core::distance(p, end);
-  if (moving && move_of[tag]) {
-    // Every piece of the instructions (a curve has several), and one motion on either side.
+  // The segments of moves[first - pad] .. moves[last + pad]: every piece of the instructions (a
+  // curve has several), and `pad` motions on either side.
+  const auto from_moves = [&](std::size_t pad) {
     const std::size_t first = *move_of[tag];
     std::size_t last = first;
     while (last + 1 < moves.size() && moves[last + 1].instruction <= std::max(tag, tag_last)) ++last;
     double d = std::numeric_limits<double>::infinity();
-    for (std::size_t m = first > 0 ? first - 1 : 0; d > enough && m <= std::min(last + 1, moves.size() - 1); ++m)
+    for (std::size_t m = first > pad ? first - pad : 0; d > enough && m <= std::min(last + pad, moves.size() - 1); ++m)
       d = std::min(d, moves[m].segment.distance_to(p, enough));
     return d;
-  }
+  };
+  if (moving && move_of[tag]) return from_moves(1);
   // At rest: where the instruction began or ended; a merged line ends where its last one does.
   const std::uint32_t last = std::max(tag, tag_last) < after.size() ? std::max(tag, tag_last) : tag;
-  return std::min({core::distance(p, before[tag]), core::distance(p, after[tag]), core::distance(p, after[last])});
+  const double d = std::min({core::distance(p, before[tag]), core::distance(p, after[tag]), core::distance(p, after[last])});
+  // Or inside it: a stop (P-5) brakes to rest on the path and ends the run there.
+  return d > enough && move_of[tag] ? std::min(d, from_moves(0)) : d;
 }
 
 }  // namespace softmc::report

@@ -33,7 +33,8 @@ struct ProgrammedPath {
   // merged from several programmed ones stands for all of them). Moving: from those motions'
   // segments or the motions on either side (a corner blend belongs to both and the tag switches at a
   // cycle boundary, so measuring against one segment alone would overstate it). Standing: from the
-  // position before or after that instruction (tag names the motion that just finished). A caller
+  // position before or after that instruction (tag names the motion that just finished), or from its
+  // segments (a P-5 stop ends the run at rest inside it). A caller
   // after the largest deviation passes it as `enough`: at or below it, any value at or below it.
   double deviation_mm(const core::Vec& p, std::uint32_t tag, std::uint32_t tag_last, bool moving, double enough = 0) const;
 };

@@ -1,4 +1,5 @@
-// Channel sequencing: motions planned ahead, non-motion instructions wait for the motion before them.
+// Channel sequencing: motions planned ahead, non-motion instructions wait for the motion before them;
+// the PLC's motion signals (P-2, P-5, P-8) acting on the path.
 #include <gtest/gtest.h>
 
 #include "control/channel.hpp"
@@ -27,11 +28,14 @@ program::Program prog(std::vector<program::Op> ops) {
   return p;
 }
 struct Rig {
+  explicit Rig(const motion::InterpolatorConfig& ic = {}) : interp{planner.queue(), core::Vec{}, ic} {}
   motion::Planner planner{limits(), 16};
-  motion::Interpolator interp{planner.queue(), core::Vec{}};
+  motion::Interpolator interp;
   control::Channel ch{planner, interp};
+  control::MotionSignals sig;  // what the PLC writes, applied at every cycle's start
   int cycles = 0;
   void cycle() {
+    ch.apply(sig);
     ch.update(0.001);
     interp.step(0.001);
     ++cycles;
@@ -128,4 +132,187 @@ TEST(Channel, PlanningWorkPerCycleIsBounded) {
     ++cycles;
   }
   EXPECT_EQ(interp.setpoint().pos, xy(60, 60));
+}
+
+namespace {
+// A 150 mm line along X at 50 mm/s, then M7, then back: the rig cycled until it cruises.
+Rig& cruising(Rig& r, const program::Program& p) {
+  r.ch.load(p);
+  EXPECT_TRUE(r.ch.start({}));
+  while (r.cycles < 1000) r.cycle();  // 50 mm/s reached after 50 ms; at X ≈ 48.7 mm after 1 s
+  EXPECT_NEAR(r.interp.setpoint().path_v, 50, 1e-9);
+  return r;
+}
+program::Program line_m_line() {
+  return prog({program::Linear{xy(150, 0), 50}, program::MFunction{7}, program::Linear{xy(0, 0), 50},
+               program::ProgramEnd{}});
+}
+// Cycles until the path is at rest (at most `max` cycles); returns the largest speed drop per cycle.
+double brake(Rig& r, int max = 5000) {
+  double most = 0;
+  for (int k = 0; k < max && r.interp.setpoint().path_v > 0; ++k) {
+    const double v = r.interp.setpoint().path_v;
+    r.cycle();
+    most = std::max(most, v - r.interp.setpoint().path_v);
+  }
+  return most;
+}
+}  // namespace
+
+// P-8: an override change acts on the next cycle, with the acceleration limit, and the path then
+// runs at the programmed feed × %F × multiplier.
+TEST(Channel, P8_OverrideActsOnTheNextCycleWithinTheRamp) {
+  const auto p = line_m_line();
+  Rig r;
+  cruising(r, p);
+  r.sig.feed_override_permille = 500;
+  r.cycle();
+  EXPECT_LT(r.interp.setpoint().path_v, 50 - 0.5);  // the first cycle after the write already slows
+  double most_drop = 50 - r.interp.setpoint().path_v;
+  for (int k = 0; k < 100; ++k) {
+    const double v = r.interp.setpoint().path_v;
+    r.cycle();
+    most_drop = std::max(most_drop, v - r.interp.setpoint().path_v);
+  }
+  EXPECT_LE(most_drop, 1000 * 0.001 + 1e-9);  // never more than a·dt a cycle
+  EXPECT_NEAR(r.interp.setpoint().path_v, 25, 1e-9);
+  r.sig.feed_override_multiplier_permille = 1500;  // 500 ‰ × 1.5 = 75 %
+  for (int k = 0; k < 100; ++k) r.cycle();
+  EXPECT_NEAR(r.interp.setpoint().path_v, 37.5, 1e-9);
+  EXPECT_EQ(r.interp.setpoint().pos[1], 0.0);
+}
+
+// Feed hold: brakes to rest on the path from the next cycle, stays there, and goes on from there.
+TEST(Channel, FeedHoldStopsOnThePathAndResumesFromThere) {
+  const auto p = line_m_line();
+  Rig r;
+  cruising(r, p);
+  r.sig.feed_hold = true;
+  r.cycle();
+  EXPECT_LT(r.interp.setpoint().path_v, 50);
+  EXPECT_LE(brake(r), 1000 * 0.001 + 1e-9);
+  const double x = r.interp.setpoint().pos[0];
+  EXPECT_GT(x, 48);
+  for (int k = 0; k < 300; ++k) r.cycle();
+  EXPECT_EQ(r.interp.setpoint().pos[0], x);  // held
+  EXPECT_EQ(r.ch.state(), control::ChannelState::Running);
+  EXPECT_EQ(r.ch.last_m(), -1);
+  r.sig.feed_hold = false;
+  r.cycle();
+  EXPECT_GT(r.interp.setpoint().pos[0], x);
+  r.run();
+  EXPECT_EQ(r.ch.state(), control::ChannelState::Finished);
+  EXPECT_EQ(r.ch.last_m(), 7);
+  EXPECT_EQ(r.interp.setpoint().pos, xy(0, 0));
+}
+
+// P-2: dropping the enable of any axis of the channel holds the whole path, even one that does not
+// move that axis; restoring it resumes on the path.
+TEST(Channel, P2_AnyAxisDisabledHoldsThePathOnIt) {
+  const auto p = line_m_line();
+  Rig r;
+  cruising(r, p);
+  r.sig.axis_enable[1] = false;  // Y, which this line does not move
+  EXPECT_LE(brake(r), 1000 * 0.001 + 1e-9);
+  const double x = r.interp.setpoint().pos[0];
+  for (int k = 0; k < 300; ++k) r.cycle();
+  EXPECT_EQ(r.interp.setpoint().pos[0], x);
+  EXPECT_EQ(r.interp.setpoint().pos[1], 0.0);
+  r.sig.axis_enable[5] = false;  // an axis the machine does not have holds nothing
+  r.sig.axis_enable[1] = true;
+  r.run();
+  EXPECT_EQ(r.ch.state(), control::ChannelState::Finished);
+  EXPECT_EQ(r.interp.setpoint().pos, xy(0, 0));
+}
+
+// P-5: stop_request is acknowledged (the channel clears it), the path brakes to rest on itself with
+// the normal ramp, nothing after the stop is executed, and the program cannot be restarted as is.
+TEST(Channel, P5_StopRequestIsAcknowledgedAndEndsTheProgramOnThePath) {
+  const auto p = line_m_line();
+  Rig r;
+  cruising(r, p);
+  r.sig.stop_request = true;
+  r.cycle();
+  EXPECT_FALSE(r.sig.stop_request);  // taken
+  EXPECT_EQ(r.ch.state(), control::ChannelState::Stopping);
+  EXPECT_FALSE(r.ch.stop_confirmed());
+  EXPECT_LE(brake(r), 1000 * 0.001 + 1e-9);
+  r.cycle();
+  EXPECT_EQ(r.ch.state(), control::ChannelState::Stopped);
+  EXPECT_TRUE(r.ch.stop_confirmed());
+  EXPECT_EQ(r.ch.stop_kind(), motion::StopKind::Normal);
+  EXPECT_EQ(r.ch.stop_instruction(), 0u);
+  EXPECT_TRUE(r.interp.idle());  // everything planned dropped
+  const auto at = r.interp.setpoint().pos;
+  EXPECT_NEAR(at[0], 48.7 + 1.25, 0.1);  // 1 s at 50 mm/s after the ramp, plus v²/2a
+  EXPECT_EQ(at[1], 0.0);
+  for (int k = 0; k < 500; ++k) r.cycle();
+  EXPECT_EQ(r.interp.setpoint().pos, at);
+  EXPECT_EQ(r.ch.last_m(), -1);  // M7 after the stopped line never ran
+  EXPECT_FALSE(r.ch.start(at));
+  r.sig.stop_request = true;  // a request with nothing running is taken and does nothing
+  r.cycle();
+  EXPECT_FALSE(r.sig.stop_request);
+  EXPECT_EQ(r.ch.state(), control::ChannelState::Stopped);
+}
+
+// P-5: stop_pulse stops on its rising edge; a pulse already high when the program starts does not.
+TEST(Channel, P5_StopPulseStopsOnItsRisingEdgeOnly) {
+  const auto p = line_m_line();
+  Rig r;
+  r.sig.stop_pulse = true;
+  r.cycle();  // idle: nothing to stop
+  cruising(r, p);
+  EXPECT_EQ(r.ch.state(), control::ChannelState::Running);
+  r.sig.stop_pulse = false;
+  r.cycle();
+  EXPECT_EQ(r.ch.state(), control::ChannelState::Running);
+  r.sig.stop_pulse = true;
+  r.cycle();
+  EXPECT_EQ(r.ch.state(), control::ChannelState::Stopping);
+  brake(r);
+  r.cycle();
+  EXPECT_EQ(r.ch.state(), control::ChannelState::Stopped);
+}
+
+// P-5: the emergency stop brakes with emergency_accel_scale × the normal ramp (here twice: half the
+// distance), and a later normal request does not weaken it.
+TEST(Channel, P5_EmergencyStopBrakesWithTheEmergencyRamp) {
+  const auto p = line_m_line();
+  motion::InterpolatorConfig ic;
+  ic.emergency_accel_scale = 2;
+  Rig normal(ic), emergency(ic);
+  cruising(normal, p);
+  cruising(emergency, p);
+  const double x0 = normal.interp.setpoint().pos[0];
+  ASSERT_EQ(emergency.interp.setpoint().pos[0], x0);
+  normal.sig.stop_request = true;
+  emergency.sig.emergency_stop_request = true;
+  emergency.cycle();
+  emergency.sig.stop_request = true;
+  const double drop_n = brake(normal), drop_e = brake(emergency);
+  EXPECT_NEAR(drop_n, 1.0, 1e-9);
+  EXPECT_NEAR(drop_e, 2.0, 1e-9);
+  normal.cycle();
+  emergency.cycle();
+  EXPECT_EQ(emergency.ch.state(), control::ChannelState::Stopped);
+  EXPECT_EQ(emergency.ch.stop_kind(), motion::StopKind::Emergency);
+  const double d_n = normal.interp.setpoint().pos[0] - x0, d_e = emergency.interp.setpoint().pos[0] - x0;
+  EXPECT_NEAR(d_n, 50.0 * 50 / 2000, 0.06);  // v²/2a, within a cycle's travel
+  EXPECT_NEAR(d_e, 50.0 * 50 / 4000, 0.06);
+}
+
+// P-5: a stop during a dwell ends the dwell and the program at once.
+TEST(Channel, P5_StopDuringADwellEndsItAtOnce) {
+  auto p = prog({program::Dwell{1.0}, program::MFunction{8}, program::ProgramEnd{}});
+  Rig r;
+  r.ch.load(p);
+  r.ch.start({});
+  for (int k = 0; k < 100; ++k) r.cycle();
+  ASSERT_TRUE(r.ch.dwelling());
+  r.sig.stop_request = true;
+  r.cycle();
+  EXPECT_EQ(r.ch.state(), control::ChannelState::Stopped);
+  EXPECT_FALSE(r.ch.dwelling());
+  EXPECT_EQ(r.ch.last_m(), -1);
 }
