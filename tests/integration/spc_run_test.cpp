@@ -11,6 +11,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "cli_run.hpp"
+#include "temp_dir.hpp"
 #include "machine/config.hpp"
 #include "program/spc/store.hpp"
 #include "spc_simulation.hpp"
@@ -51,19 +53,7 @@ double first_time(const report::SpcTrace& tr, double t0, P pred) {
   return -1;
 }
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    char tmpl[] = "/tmp/softmc_spc_XXXXXX";
-    path = mkdtemp(tmpl);
-  }
-  ~TempDir() { fs::remove_all(path); }
-  std::string file(const std::string& name, const std::string& text = "") const {
-    const auto p = (path / name).string();
-    if (!text.empty()) std::ofstream(p) << text;
-    return p;
-  }
-};
+using test::TempDir;
 
 // S-8 and S-11: the binary position decoder in Start/Stop, driven by a stimulus file: the PLC sets the
 // position bits, pulses START; X moves to the decoded position; READY and MC follow S-8.
@@ -228,7 +218,7 @@ TEST(Spc200, S5_RegistersSurviveARestartThroughTheSqliteFile) {
   dir.file("P1.spc", "N000 G28 @3 X12.34\nN001 #LR7=-123\nN002 M30\n");
   dir.file("P2.spc", "N000 #TR7=-123 2\nN001 M30\nN002 G01 X@3 FX0\nN003 M30\n");
   const auto store = load(dir.path.string(), false);
-  const auto db = dir.file("registers.sqlite");
+  const auto db = dir.path_of("registers.sqlite");
   auto cfg = spc_machine(0.2);
   for (int prog : {1, 2}) {
     SpcRunConfig rc;
@@ -245,23 +235,16 @@ TEST(Spc200, S5_RegistersSurviveARestartThroughTheSqliteFile) {
 
 // The command line on an example: `softmc run STORE ... --json` prints the documented JSON.
 TEST(Spc200, S11_CliRunsAnExampleStoreAndPrintsJson) {
-  const auto exe = fs::read_symlink("/proc/self/exe").parent_path().parent_path() / "apps/softmc/softmc";
-  ASSERT_TRUE(fs::exists(exe)) << exe << " not built (cmake --build ... --target softmc)";
   TempDir dir;
   const auto stim_file = dir.file("run.stim", "0 ENABLE 1\n0 STOP 1\n0.4 START 1\n0.45 START 0\n");
-  const auto plot = dir.file("plot.png");
-  const auto trace = dir.file("trace.csv");
-  const std::string cmd = exe.string() + " run " + src("examples/spc/app4_grid_g91") + " --machine " +
+  const auto plot = dir.path_of("plot.png");
+  const auto trace = dir.path_of("trace.csv");
+  const auto r = test::run_softmc("run " + src("examples/spc/app4_grid_g91") + " --machine " +
                           src("examples/machines/spc_positioning.toml") +
                           " --set spc.self_test_s=0.3 --task-a 1 --task-b 10 --stimulus " + stim_file +
-                          " --registers :memory: --plot " + plot + " --trace " + trace + " --json";
-  std::FILE* p = ::popen(cmd.c_str(), "r");
-  ASSERT_NE(p, nullptr);
-  std::string out;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), p)) out += buf.data();
-  const int status = ::pclose(p);
-  EXPECT_EQ(WEXITSTATUS(status), 0) << out;
+                          " --registers :memory: --plot " + plot + " --trace " + trace + " --json");
+  EXPECT_EQ(r.exit, 0) << r.out << r.err;
+  const auto& out = r.out;
   const auto j = nlohmann::json::parse(out);
   EXPECT_EQ(j["mode"], "start-stop");
   EXPECT_TRUE(j["ok"].get<bool>());

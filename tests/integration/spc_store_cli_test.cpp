@@ -11,7 +11,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "cli_run.hpp"
 #include "program/spc/store.hpp"
+#include "temp_dir.hpp"
 
 namespace softmc::app {
 namespace {
@@ -20,41 +22,10 @@ namespace fs = std::filesystem;
 
 std::string src(const std::string& rel) { return std::string(SOFTMC_SOURCE_DIR) + "/" + rel; }
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    char tmpl[] = "/tmp/softmc_storecli_XXXXXX";
-    path = mkdtemp(tmpl);
-  }
-  ~TempDir() { fs::remove_all(path); }
-  std::string file(const std::string& name, const std::string& text) const {
-    const auto p = (path / name).string();
-    std::ofstream(p, std::ios::binary) << text;
-    return p;
-  }
-};
-
-struct Run {
-  int exit = -1;
-  std::string out, err;
-};
+using test::TempDir;
 
 // Runs `softmc ARGS` with stdout and stderr apart.
-Run softmc(const std::string& args) {
-  const auto exe = fs::read_symlink("/proc/self/exe").parent_path().parent_path() / "apps/softmc/softmc";
-  EXPECT_TRUE(fs::exists(exe)) << exe << " not built (cmake --build ... --target softmc)";
-  const auto err_file = fs::temp_directory_path() / ("softmc_storecli_err_" + std::to_string(::getpid()));
-  const std::string cmd = exe.string() + " " + args + " 2>" + err_file.string();
-  Run r;
-  std::FILE* p = ::popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), p)) r.out += buf.data();
-  r.exit = WEXITSTATUS(::pclose(p));
-  r.err = *program::spc::read_text_file(err_file.string());
-  fs::remove(err_file);
-  return r;
-}
+test::CliRun softmc(const std::string& args) { return test::run_softmc(args); }
 
 TEST(Spc200, S12_CliImportListShowDeleteExport) {
   TempDir d;

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "temp_dir.hpp"
 #include "iso_test_util.hpp"
 #include "program/iso/interp_config.hpp"
 
@@ -15,18 +16,7 @@ namespace {
 namespace fs = std::filesystem;
 using test::formatted;
 
-// A scratch folder removed at the end of the test.
-struct TempDir {
-  fs::path path = fs::temp_directory_path() / ("softmc_iso_cfg_" + std::to_string(::getpid()));
-  TempDir() { fs::create_directories(path); }
-  ~TempDir() { fs::remove_all(path); }
-  std::string write(const std::string& name, const std::string& text) const {
-    const fs::path p = path / name;
-    fs::create_directories(p.parent_path());
-    std::ofstream(p) << text;
-    return p.string();
-  }
-};
+using softmc::test::TempDir;
 
 template <class T>
 std::vector<T> all(const Program& p) {
@@ -39,7 +29,7 @@ std::vector<T> all(const Program& p) {
 TEST(IsoInterpConfig, ToolTableFileFeedsG43AndG41) {
   TempDir dir;
   InterpConfig ic;
-  ic.tool_table = dir.write("tools.tbl", "T1 P1 D6.0 Z25.4 ;6 mm end mill\n");
+  ic.tool_table = dir.file("tools.tbl", "T1 P1 D6.0 Z25.4 ;6 mm end mill\n");
   InterpSetup setup;
   ASSERT_TRUE(setup.load(ic).empty());
   // G43 H1: Z moves by the tool length; G41 D1: the path is offset by the radius 3 mm to the left.
@@ -60,7 +50,7 @@ TEST(IsoInterpConfig, ToolTableFileFeedsG43AndG41) {
 TEST(IsoInterpConfig, ToolTableProblemsAreReportedBeforeAnyProgram) {
   TempDir dir;
   InterpConfig ic;
-  ic.tool_table = dir.write("bad.tbl", "T1 D6\nT2 K1\n");
+  ic.tool_table = dir.file("bad.tbl", "T1 D6\nT2 K1\n");
   InterpSetup setup;
   const auto d = setup.load(ic);
   ASSERT_EQ(d.size(), 1u);
@@ -71,8 +61,8 @@ TEST(IsoInterpConfig, ToolTableProblemsAreReportedBeforeAnyProgram) {
 
 TEST(IsoInterpConfig, SubroutineFoldersAreSearchedInOrder) {
   TempDir dir;
-  dir.write("a/other.ngc", "o<other> sub\nG0 X1\no<other> endsub\n");
-  dir.write("b/peck.ngc", "o<peck> sub\nG0 X7\no<peck> endsub\n");
+  dir.file("a/other.ngc", "o<other> sub\nG0 X1\no<other> endsub\n");
+  dir.file("b/peck.ngc", "o<peck> sub\nG0 X7\no<peck> endsub\n");
   InterpConfig ic;
   ic.subroutine_path = {(dir.path / "a").string(), (dir.path / "b").string()};
   InterpSetup setup;

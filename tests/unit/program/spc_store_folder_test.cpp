@@ -7,6 +7,7 @@
 #include <map>
 #include <string>
 
+#include "temp_dir.hpp"
 #include "program/spc/store_folder.hpp"
 
 namespace softmc::program::spc {
@@ -14,20 +15,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    char tmpl[] = "/tmp/softmc_store_XXXXXX";
-    path = mkdtemp(tmpl);
-  }
-  ~TempDir() { fs::remove_all(path); }
-  std::string file(const std::string& name, const std::string& text) const {
-    const auto p = (path / name).string();
-    std::ofstream(p, std::ios::binary) << text;
-    return p;
-  }
-  std::string str() const { return path.string(); }
-};
+using test::TempDir;
 
 // Every file of a folder (hidden ones too, so a left-over temp file shows) with its bytes.
 std::map<std::string, std::string> snapshot(const fs::path& dir) {
