@@ -28,6 +28,29 @@ TEST(Cycle, StepsAllocateNothing) {
   EXPECT_EQ(during, 0) << "allocations inside " << cycles << " cycles";
 }
 
+// The PLC's motion signals played into the cycle (override, hold, enable, a stop) allocate nothing either.
+TEST(Cycle, StepsWithMotionSignalsAllocateNothing) {
+  const auto cfg = machine::default_machine();
+  auto parsed = program::iso::parse_file(std::string(SOFTMC_SOURCE_DIR) + "/examples/thesis/rounded_rectangle.ngc");
+  ASSERT_TRUE(parsed.program);
+  const auto st = control::parse_channel_stimulus(
+      "0.3 feed_override_permille 1500\n0.6 feed_hold 1\n0.9 feed_hold 0\n1.2 axis_enable[Y] 0\n"
+      "1.5 axis_enable[Y] 1\n1.8 feed_override_multiplier_permille 500\n2.5 stop_request 1\n",
+      "alloc.stim", cfg.axis_mask());
+  ASSERT_TRUE(st.stimulus);
+  app::Simulation sim(*parsed.program, cfg, &*st.stimulus);
+  const long before = softmc::testing::allocation_count();
+  std::uint64_t cycles = 0;
+  while (!sim.finished() && !sim.stopped() && !sim.faulted() && cycles < 10'000'000) {
+    sim.step();
+    ++cycles;
+  }
+  const long during = softmc::testing::allocation_count() - before;
+  ASSERT_TRUE(sim.stopped());
+  EXPECT_GT(cycles, 2000u);
+  EXPECT_EQ(during, 0) << "allocations inside " << cycles << " cycles";
+}
+
 TEST(Cycle, SpcRecordSelectWithPlcStepsAllocateNothing) {
   // Both tasks in Record Select, driven by the reference PLC (S-10) through the whole composition root.
   auto cfg = machine::load_machine(std::string(SOFTMC_SOURCE_DIR) + "/examples/machines/spc_positioning.toml");

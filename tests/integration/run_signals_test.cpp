@@ -1,0 +1,176 @@
+// Whole G-code runs with the PLC's motion signals from a stimulus (P-2, P-5, P-8, feed hold) on the
+// built-in jerk-limited cutting table: they act within one cycle, on the path, with every limit kept.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "cli_run.hpp"
+#include "control/channel_stimulus.hpp"
+#include "machine/config.hpp"
+#include "program/iso/parser.hpp"
+#include "report/summary.hpp"
+#include "simulation.hpp"
+#include "temp_dir.hpp"
+
+using namespace softmc;
+
+namespace {
+// 200 mm along X at 100 mm/s, 100 mm along Y, back along X: long straight cruises to act on.
+constexpr const char* kProgram = "G21 G90 G64 P0.05\nG0 X0 Y0\nG1 X200 F6000\nG1 Y100\nG1 X0\nM30\n";
+
+struct SignalRun {
+  program::Program prog;
+  app::SimResult res;
+  report::Summary sum;
+};
+SignalRun run(const std::string& stimulus, const machine::MachineConfig& cfg = machine::default_machine()) {
+  SignalRun out;
+  auto p = program::iso::parse(kProgram, "sig.ngc");
+  EXPECT_TRUE(p.program);
+  out.prog = *p.program;
+  auto st = control::parse_channel_stimulus(stimulus, "sig.stim", cfg.axis_mask());
+  EXPECT_TRUE(st.stimulus) << (st.diagnostics.empty() ? "" : st.diagnostics.front().format());
+  app::SimOptions opt;
+  opt.stimulus = &*st.stimulus;
+  out.res = app::simulate(out.prog, cfg, opt);
+  out.sum = report::summarize(out.prog, cfg, out.res.trace);
+  return out;
+}
+
+// Every axis within its speed, acceleration (× scale) and jerk (× scale) limits over the whole trace.
+void expect_within_limits(const SignalRun& r, const machine::MachineConfig& cfg, double scale = 1) {
+  for (const auto& a : cfg.axes) {
+    if (!a.enabled) continue;
+    EXPECT_LE(r.sum.axis[a.index].max_vel_mm_s, a.max_vel_mm_s * (1 + 1e-9)) << a.name;
+    EXPECT_LE(r.sum.axis[a.index].max_acc_mm_s2, scale * a.max_acc_mm_s2 * (1 + 1e-6)) << a.name;
+    EXPECT_LE(r.sum.axis[a.index].max_jerk_mm_s3, scale * a.max_jerk_mm_s3 * (1 + 1e-4)) << a.name;
+  }
+}
+
+// The row at time t (rows are one per cycle from t = 0).
+const report::TraceRow& at(const SignalRun& r, double t) {
+  return r.res.trace.rows.at(static_cast<std::size_t>(std::lround(t / r.res.trace.period_s)));
+}
+}  // namespace
+
+// P-8 and feed hold: each write changes the path speed in the cycle that starts at its time (the row
+// one period later), from a steady cruise; the jerk limit holds throughout, the held path rests on
+// the programmed line, and the program still ends exactly on its last point.
+TEST(RunSignals, P8_OverrideAndHoldActWithinOneCycleWithTheJerkKept) {
+  const auto cfg = machine::default_machine();
+  const auto r = run("0.8 feed_override_permille 500\n"
+                     "1.6 feed_hold 1\n"
+                     "2.2 feed_hold 0\n"
+                     "3.0 feed_override_permille 1500\n",
+                     cfg);
+  ASSERT_TRUE(r.res.ok) << r.res.result;
+  EXPECT_FALSE(r.res.stopped);
+  const double dt = r.res.trace.period_s;
+  const struct {
+    double t, v_before;
+    int sign;
+  } events[] = {{0.8, 100, -1}, {1.6, 50, -1}, {3.0, 50, +1}};
+  for (const auto& e : events) {
+    EXPECT_NEAR(at(r, e.t - dt).path_v, e.v_before, 1e-9) << e.t;  // cruising before the write
+    EXPECT_NEAR(at(r, e.t).path_v, e.v_before, 1e-9) << e.t;
+    EXPECT_GT(e.sign * (at(r, e.t + dt).path_v - e.v_before), 0) << e.t;  // and changing in the next cycle
+  }
+  EXPECT_NEAR(at(r, 1.55).path_v, 50, 1e-9);   // %F 50
+  EXPECT_EQ(at(r, 2.15).path_v, 0);            // held at rest ...
+  EXPECT_EQ(at(r, 2.15).cmd, at(r, 2.2).cmd);  // ... where it stays
+  EXPECT_EQ(at(r, 2.15).cmd[1], 0.0);          // on the programmed line
+  EXPECT_GT(at(r, 2.2 + 2 * dt).path_v, 0);    // released: moving again
+  expect_within_limits(r, cfg);
+  EXPECT_LE(r.sum.max_path_deviation_mm, 0.05);
+  const auto& last = r.res.trace.rows.back();
+  EXPECT_EQ(last.cmd[0], 0.0);
+  EXPECT_EQ(last.cmd[1], 100.0);
+}
+
+// P-2: one axis's enable held at 0 (Y, while the path moves X only) brings the path to rest with
+// the normal ramps and jerk; back at 1 it resumes on the path without a jump.
+TEST(RunSignals, P2_AxisEnableDropHoldsThePathAndResumesWithoutAJump) {
+  const auto cfg = machine::default_machine();
+  const auto r = run("0.8 axis_enable[Y] 0\n1.5 axis_enable[Y] 1\n", cfg);
+  ASSERT_TRUE(r.res.ok) << r.res.result;
+  const double dt = r.res.trace.period_s;
+  EXPECT_LT(at(r, 0.8 + dt).path_v, 100);
+  EXPECT_EQ(at(r, 1.45).path_v, 0);
+  EXPECT_EQ(at(r, 1.45).cmd[1], 0.0);
+  EXPECT_GT(at(r, 1.5 + 2 * dt).path_v, 0);
+  expect_within_limits(r, cfg);
+  EXPECT_LE(r.sum.max_path_deviation_mm, 0.05);
+  EXPECT_EQ(r.res.trace.rows.back().cmd[1], 100.0);
+}
+
+// P-5: a stop request ends the run at rest on the path: reported with where it stopped, nothing
+// after it run, every limit kept.
+TEST(RunSignals, P5_StopRequestEndsTheRunAtRestOnThePath) {
+  const auto cfg = machine::default_machine();
+  const auto r = run("1.0 stop_request 1\n", cfg);
+  ASSERT_TRUE(r.res.ok) << r.res.result;
+  EXPECT_TRUE(r.res.stopped);
+  EXPECT_EQ(r.res.result.rfind("stopped (P-5 stop) at sig.ngc:3:1, t = ", 0), 0u) << r.res.result;
+  const auto& last = r.res.trace.rows.back();
+  EXPECT_EQ(last.path_v, 0);
+  EXPECT_EQ(last.cmd[1], 0.0);
+  EXPECT_GT(last.cmd[0], 90);
+  EXPECT_LT(last.cmd[0], 110);
+  EXPECT_LT(r.res.trace.rows.size(), 1500u);  // ended soon after the stop, not at the program's end
+  expect_within_limits(r, cfg);
+  EXPECT_LT(r.sum.max_path_deviation_mm, 1e-9);  // it rests on the line it was on
+}
+
+// P-5: the emergency stop brakes with [planner] emergency_accel_scale × the axes' acceleration and
+// jerk, with the acceleration and jerk of that scale and no more. From 100 mm/s with a = 2000 mm/s²
+// and j = 50 000 mm/s³ the S-curve brake takes 0.09 s (a²/j = 80 mm/s at each end of the constant
+// part): 4.5 mm. At twice both it never reaches 4000 mm/s²: 2·√(v/j) = 0.0632 s, 3.162 mm.
+TEST(RunSignals, P5_EmergencyStopBrakesWithTheConfiguredScale) {
+  auto cfg = machine::default_machine();
+  machine::apply_override(cfg, "planner.emergency_accel_scale=2");
+  const auto normal = run("1.0 stop_request 1\n", cfg);
+  const auto emergency = run("1.0 emergency_stop_request 1\n", cfg);
+  ASSERT_TRUE(normal.res.stopped && emergency.res.stopped);
+  EXPECT_EQ(emergency.res.result.rfind("stopped (P-5 emergency stop) at sig.ngc:3:1", 0), 0u) << emergency.res.result;
+  const double x0 = at(normal, 1.0).cmd[0];
+  ASSERT_EQ(at(emergency, 1.0).cmd[0], x0);
+  const double d_n = normal.res.trace.rows.back().cmd[0] - x0, d_e = emergency.res.trace.rows.back().cmd[0] - x0;
+  EXPECT_NEAR(d_n, 4.5, 0.01);
+  EXPECT_NEAR(d_e, 100 * 2 * std::sqrt(100 / 100000.0) / 2, 0.01);
+  expect_within_limits(normal, cfg);
+  expect_within_limits(emergency, cfg, 2);
+  EXPECT_GT(emergency.sum.axis[0].max_acc_mm_s2, 1.5 * cfg.axes[0].max_acc_mm_s2);
+}
+
+// A run held at rest with no event left that could release it ends with an error naming why and
+// where, instead of simulating on to the 24 h timeout.
+TEST(RunSignals, HeldWithNoEventLeftEndsWithAnError) {
+  const auto hold = run("0.5 feed_hold 1\n");
+  EXPECT_FALSE(hold.res.ok);
+  EXPECT_NE(hold.res.result.find("sig.ngc:3:1: held at rest at t = "), std::string::npos) << hold.res.result;
+  EXPECT_NE(hold.res.result.find("(feed_hold is 1) and no stimulus event left to release it"), std::string::npos)
+      << hold.res.result;
+  EXPECT_LT(hold.res.trace.rows.size(), 1000u);
+  const auto zero = run("0.5 feed_override_permille 0\n0.6 axis_enable[X] 0\n");
+  EXPECT_FALSE(zero.res.ok);
+  EXPECT_NE(zero.res.result.find("(axis_enable[X] is 0, the feed override is 0)"), std::string::npos) << zero.res.result;
+  // Released later: the run goes on to the end.
+  const auto released = run("0.5 feed_hold 1\n3 feed_hold 0\n");
+  EXPECT_TRUE(released.res.ok) << released.res.result;
+}
+
+// The command line: `softmc run PROGRAM --stimulus FILE`; a bad file is refused with file:line:col
+// before anything moves (no summary), a good one reports the stop.
+TEST(RunSignals, CliRunsWithAStimulusAndRefusesABadOne) {
+  test::TempDir dir;
+  const auto prog = dir.file("sig.ngc", kProgram);
+  const auto bad = dir.file("bad.stim", "0.5 feed_hold 1\n1 stop_requets 1\n");
+  auto r = test::run_softmc("run " + prog + " --stimulus " + bad + " --json");
+  EXPECT_EQ(r.exit, 1);
+  EXPECT_EQ(r.out, "");
+  EXPECT_NE(r.err.find(bad + ":2:3: error: unknown signal 'stop_requets'"), std::string::npos) << r.err;
+  const auto good = dir.file("good.stim", "0.5 feed_override_permille 800\n1 stop_request 1\n");
+  r = test::run_softmc("run " + prog + " --stimulus " + good + " --json");
+  EXPECT_EQ(r.exit, 0) << r.err;
+  EXPECT_NE(r.out.find("\"result\":\"stopped (P-5 stop) at " + prog + ":3:1, t = "), std::string::npos) << r.out;
+}
