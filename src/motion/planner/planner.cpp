@@ -1039,11 +1039,32 @@ void Planner::flush() {
   if (queue_.pending_.length > min_length_mm_) commit(queue_.pending_);
 }
 
+// rt-safe. Caps b where the kDenseBlocks blocks ending with it (it included) are shorter than a
+// cycle's travel at its cap; fewer blocks since the window was last empty cannot fill a cycle.
+void Planner::dense_cap(Block& b) {
+  const std::size_t slot = dense_n_ % kDenseBlocks;
+  if (slot == 0) {  // the running sum taken afresh once per round, so rounding cannot pile up
+    dense_sum_mm_ = 0;
+    for (std::size_t k = 0; k < kDenseBlocks && k < dense_n_; ++k) dense_sum_mm_ += dense_len_[k];
+  }
+  if (dense_n_ >= kDenseBlocks) dense_sum_mm_ -= dense_len_[slot];
+  dense_len_[slot] = b.length;
+  dense_sum_mm_ += b.length;
+  if (++dense_n_ < kDenseBlocks) return;
+  const double cap = std::max(0.0, dense_sum_mm_) / limits_.period_s;
+  if (cap < b.v_cap_mm_s) {
+    b.v_cap_mm_s = cap;
+    b.v_split_mm_s = std::min(b.v_split_mm_s, cap);
+  }
+}
+
 // rt-safe. Appends a block: its junction limit with the block before it, then the backward pass.
 void Planner::commit(const Block& b) {
   auto& ring = queue_.ring_;
   ring.push(b);  // room was checked by push()
   Block& nb = ring.back();
+  if (ring.size() == 1) dense_n_ = 0;  // from rest: no block before it shares a cycle with it
+  dense_cap(nb);
   if (ring.size() == 1) {
     nb.v2_junction = 0;  // the machine is at rest when the window is empty (its tail ends at rest)
   } else {

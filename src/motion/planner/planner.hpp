@@ -12,6 +12,7 @@
 // actual state (speed, override, hold), so override and hold never require re-planning the window.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <limits>
 
@@ -168,6 +169,15 @@ class Planner {
   PlannerConfig config_;
   PlanQueue queue_;
   double min_length_mm_;  // min_length_mm(limits_)
+  // The interpolator passes at most InterpolatorConfig::max_blocks_per_cycle (512) blocks a cycle.
+  // A block is capped at the speed at which the kDenseBlocks blocks ending with it take one cycle
+  // (dense_cap), so a cycle never needs more than the budget (half of it: the speed may change
+  // within the cycle). Lengths of the last kDenseBlocks blocks committed since the window was empty:
+  static constexpr std::size_t kDenseBlocks = 256;
+  std::array<double, kDenseBlocks> dense_len_{};
+  std::uint64_t dense_n_ = 0;
+  double dense_sum_mm_ = 0;
+  void dense_cap(Block& b);
   mutable std::uint64_t curves_built_ = 0;
 };
 

@@ -268,6 +268,7 @@ class ProgramReader {
     const std::size_t made = instructions_made();
     interp_.max_ops = made < instruction_limit() ? instruction_limit() - made : 0;
     const core::Vec before = state_.position;
+    const bool nurbs_before = state_.motion == Motion::Nurbs;
     if (auto e = execute(block_, state_, params_, interp_, out_)) {
       // A G5.3 that failed (a missing feed, a bad curve) leaves its block open, so that a later G5.3
       // may still close it; the program's end inside it would only echo that failure, as the end of
@@ -281,6 +282,8 @@ class ProgramReader {
     for (const auto& [n, v] : out_.param_writes) params_.set(n, v);
     if (out_.m66) params_.set_runtime_only(kM66Result);
     deliver(core::SourceLoc{static_cast<std::uint16_t>(f), line_no(pc), block_.col}, before);
+    if (!nurbs_before && state_.motion == Motion::Nurbs && block_.motion)  // where a block left open is reported
+      nurbs_open_ = core::SourceLoc{static_cast<std::uint16_t>(f), line_no(pc), block_.motion->col};
     position_params_stale_ = true;
     if (state_.ended && frames_.size() > 1) done_ = true;  // M2/M30 in a subroutine ends everything
   }
@@ -627,7 +630,7 @@ class ProgramReader {
 
   void finish() {
     if (state_.motion == Motion::Nurbs && !state_.ended && !done_ && !state_.nurbs_uncertain)
-      add_error(0, files_[0]->lines.size() - 1, 1, "the program ends inside a G5.2 block: close it with G5.3");
+      add_error_loc(nurbs_open_, "the program ends inside this G5.2 block: close it with G5.3");
     if (comp_.active()) {
       comp_out_.clear();
       comp_.stop(comp_out_);
@@ -669,6 +672,7 @@ class ProgramReader {
   InterpOptions interp_;
   Program program_;
   ModalState state_;
+  core::SourceLoc nurbs_open_;  // the G5.2 word of the open NURBS block
   Parameters params_;
   CutterComp comp_;
   std::vector<Instruction> comp_out_;

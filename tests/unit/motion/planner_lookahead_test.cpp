@@ -223,3 +223,31 @@ TEST(Lookahead, UnmergeableLinesKeepTheirDirection) {
   EXPECT_LE(res.fig.j_ratio, 1 + 1e-4) << res.fig.describe();
   EXPECT_EQ(res.end, path(false).back().geom.end);
 }
+
+// The interpolator passes at most max_blocks_per_cycle (512) blocks a cycle: past that it used to
+// drop the rest of the cycle (trapezoids: a speed dip, 14× the acceleration) or let the setpoints
+// lag the follower and catch up (jerk mode). A full window of 0.1 µm lines that cannot merge (G61:
+// no tolerance) reached 100 mm/s there: 1 000 blocks a cycle. The planner now caps each block at
+// the speed at which the 256 blocks ending with it take a cycle, so no cycle needs more than the
+// budget: the speed follows the block density and every limit holds.
+TEST(Lookahead, DenseTinyBlocksNeverOutrunTheCycleBudget) {
+  for (const double j : {0.0, 50000.0}) {
+    MachineLimits lim = xyz_limits(100, 2000);
+    for (int i = 0; i < 3; ++i) lim.axis[i].j_max_mm_s3 = j;
+    std::vector<PathRequest> reqs;
+    // 2 mm of 0.1 µm lines between two 20 mm lines, the whole of it in the window at once.
+    reqs.push_back(line_req(xyz(0, 0), xyz(20, 0), 100, 0, 0));
+    for (int k = 0; k < 20000; ++k)
+      reqs.push_back(line_req(xyz(20 + k * 1e-4, 0), xyz(20 + (k + 1) * 1e-4, 0), 100, static_cast<std::uint32_t>(k + 1), 0));
+    reqs.push_back(line_req(xyz(22, 0), xyz(42, 0), 100, 20001, 0));
+    const auto res = run_path(lim, reqs, 30000);
+    ASSERT_EQ(res.error, PlanResult::Ok);
+    EXPECT_TRUE(res.finished);
+    EXPECT_EQ(res.end, xyz(42, 0));
+    EXPECT_LE(res.fig.v_ratio, 1 + 1e-9) << "jerk " << j << ": " << res.fig.describe();
+    EXPECT_LE(res.fig.a_ratio, 1 + 1e-6) << "jerk " << j << ": " << res.fig.describe();
+    if (j > 0) EXPECT_LE(res.fig.j_ratio, 1 + 1e-3) << res.fig.describe();
+    // Through the tiny blocks at 256 × 0.1 µm per ms = 25.6 mm/s, not crawling.
+    EXPECT_LT(res.cycles, 1300u) << "jerk " << j;
+  }
+}

@@ -136,6 +136,12 @@ TEST(IsoDiagnostics, AFailedG5_3IsNotEchoedAtTheEnd) {
   EXPECT_EQ(parse_errors("G0 X5 Y5 F60\nG5.2 X10 Y-20 L3\nX20 Y5\nM30\n").size(), 1u);
 }
 
+// A G5.2 block the file leaves open is reported at its G5.2 word, not at a line after the last.
+TEST(IsoDiagnostics, AG5_2LeftOpenIsReportedWhereItOpened) {
+  EXPECT_EQ(parse_errors("G0 X5 Y5 F60\nG5.2 X10 Y-20 L3\nX20 Y5\nG5.3\n  G5.2 X0 Y0 L3\nX20 Y5\n"),
+            std::vector<std::string>{"t.ngc:5:3: error: the program ends inside this G5.2 block: close it with G5.3"});
+}
+
 TEST(IsoDiagnostics, NoProgramWhenAnyError) {
   const auto r = iso::parse("G0 X1\nG1 X2 F60\nG0 Q1\n", "t.ngc");
   EXPECT_FALSE(r.program);
