@@ -112,7 +112,18 @@ int cmd_run(const std::string& path, const MachineArgs& margs, const std::string
   summary.program = path;
   summary.machine = margs.file.empty() ? cfg.name + " (built-in)" : margs.file;
   summary.result = res.result;
-  if (!plot.empty()) report::write_plot(plot, *prog, cfg, res.trace);
+  if (!plot.empty()) {
+    // The stimulus's writes up to the run's end, marked on the speed panel (one label per time).
+    std::vector<report::PlotEvent> events;
+    const double end_s = res.trace.rows.empty() ? 0.0 : res.trace.rows.back().t_s;
+    for (const auto& e : stimulus ? stimulus->events : std::vector<control::ChannelStimulusEvent>{}) {
+      const auto label = control::short_label(e);
+      if (label.empty() || e.t_s > end_s) continue;
+      if (!events.empty() && events.back().t_s == e.t_s) events.back().label += ", " + label;
+      else events.push_back({e.t_s, label});
+    }
+    report::write_plot(plot, *prog, cfg, res.trace, events);
+  }
   if (json) {
     std::cout << report::to_json(summary) << '\n';
   } else {

@@ -126,6 +126,24 @@ ChannelStimulusParseResult load_channel_stimulus(const std::string& path, core::
   return parse_channel_stimulus(*text, path, axes);
 }
 
+std::string short_label(const ChannelStimulusEvent& e) {
+  const auto permille = [](std::uint16_t v) {
+    std::string s = std::to_string(v / 10);
+    if (v % 10) s += "." + std::to_string(v % 10);
+    return s;
+  };
+  switch (e.signal) {
+    case MotionSignal::FeedOverride: return "%F " + permille(e.value);
+    case MotionSignal::FeedOverrideMultiplier: return "x " + permille(e.value) + " %";
+    case MotionSignal::FeedHold: return e.value ? "hold" : "release";
+    case MotionSignal::AxisEnable: return std::string(1, core::letter(e.axis)) + (e.value ? " on" : " off");
+    case MotionSignal::StopPulse: return e.value ? "stop pulse" : "";
+    case MotionSignal::StopRequest: return "stop";
+    case MotionSignal::EmergencyStopRequest: return "e-stop";
+  }
+  return "";
+}
+
 // rt-safe
 void apply(const ChannelStimulusEvent& e, MotionSignals& s) {
   const bool on = e.value != 0;

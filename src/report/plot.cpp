@@ -52,6 +52,7 @@ constexpr Rgb kStart{0.10, 0.65, 0.20};
 constexpr Rgb kEnd{0.85, 0.10, 0.10};
 constexpr Rgb kSpeed{0.10, 0.10, 0.10};
 constexpr Rgb kToolBand{1.0, 0.80, 0.55};
+constexpr Rgb kEvent{0.55, 0.20, 0.65};
 constexpr std::array<Rgb, core::kMaxAxes> kAxisColors{{{0.12, 0.47, 0.71},
                                                        {0.90, 0.45, 0.05},
                                                        {0.17, 0.63, 0.17},
@@ -497,6 +498,32 @@ void draw_speed_panel(cairo_t* cr, const Scene& s) {
   draw_text(cr, kx - 192, ky, "commanded", 12, Align::Start, Align::Middle);
 }
 
+// The signal writes of the run (--stimulus) as dashed lines across the speed panel, each labelled
+// at its top; labels step down in three rows so that writes close in time stay readable.
+void draw_events(cairo_t* cr, const Scene& s, const std::vector<PlotEvent>& events) {
+  if (events.empty()) return;
+  const PlotFrame f = time_frame(s, 0, {0.0, 1.0});
+  cairo_save(cr);
+  clip_to(cr, f);
+  const double dashes[] = {4.0, 3.0};
+  int row = 0;
+  for (const auto& e : events) {
+    const double x = std::floor(f.to_px_x(e.t_s)) + 0.5;  // on a pixel's centre: one crisp pixel wide
+    set_color(cr, kEvent);
+    cairo_set_dash(cr, dashes, 2, 0);
+    cairo_set_line_width(cr, 1.0);
+    cairo_move_to(cr, x, f.px.y);
+    cairo_line_to(cr, x, f.px.y + f.px.h);
+    cairo_stroke(cr);
+    cairo_set_dash(cr, nullptr, 0, 0);
+    const bool right = x > f.px.x + f.px.w - 80;  // near the end: the label left of its line
+    draw_text(cr, right ? x - 3 : x + 3, f.px.y + 12 + 14 * row, e.label, 11, right ? Align::End : Align::Start,
+              Align::Middle);
+    row = (row + 1) % 3;
+  }
+  cairo_restore(cr);
+}
+
 // Per-axis acceleration from second differences of the setpoints, as the trace checker sees it;
 // dashed lines mark each axis's configured limit.
 void draw_acc_panel(cairo_t* cr, const Scene& s, const std::vector<std::size_t>& axes) {
@@ -585,7 +612,8 @@ void draw_title(cairo_t* cr, const Scene& s) {
             12.5);
 }
 
-void draw(cairo_t* cr, const program::Program& prog, const machine::MachineConfig& cfg, const Trace& trace) {
+void draw(cairo_t* cr, const program::Program& prog, const machine::MachineConfig& cfg, const Trace& trace,
+          const std::vector<PlotEvent>& events) {
   cairo_set_source_rgb(cr, 1, 1, 1);
   cairo_paint(cr);
   Scene s = make_scene(prog, cfg, trace);
@@ -596,6 +624,7 @@ void draw(cairo_t* cr, const program::Program& prog, const machine::MachineConfi
   if (s.zoomed) draw_overview(cr, s, xy, kXyArea.y + 250);
   const auto axes = moving_axes(trace);
   draw_speed_panel(cr, s);
+  draw_events(cr, s, events);
   draw_acc_panel(cr, s, axes);
   draw_ferr_panel(cr, s, axes);
 }
@@ -603,8 +632,8 @@ void draw(cairo_t* cr, const program::Program& prog, const machine::MachineConfi
 }  // namespace
 
 void write_plot(const std::string& path, const program::Program& prog, const machine::MachineConfig& cfg,
-                const Trace& trace) {
-  render_to_file(path, kWidth, kHeight, [&](cairo_t* cr) { draw(cr, prog, cfg, trace); });
+                const Trace& trace, const std::vector<PlotEvent>& events) {
+  render_to_file(path, kWidth, kHeight, [&](cairo_t* cr) { draw(cr, prog, cfg, trace, events); });
 }
 
 }  // namespace softmc::report

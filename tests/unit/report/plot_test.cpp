@@ -3,6 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cairo.h>
+
+#include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
@@ -116,4 +120,37 @@ TEST(Plot, SmallPartFarFromTheStartZoomsOntoThePart) {
   const std::string path = ::testing::TempDir() + "report_plot_far.png";
   write_plot(path, prog, test_table(), realistic_trace(prog));
   EXPECT_EQ(slurp(path).substr(0, 4), std::string("\x89PNG", 4));
+}
+
+namespace {
+// Pixels of the event colour (kEvent: 0.55, 0.20, 0.65) in a PNG, by cairo's own reader.
+int event_pixels(const std::string& png) {
+  cairo_surface_t* img = cairo_image_surface_create_from_png(png.c_str());
+  EXPECT_EQ(cairo_surface_status(img), CAIRO_STATUS_SUCCESS);
+  cairo_surface_flush(img);
+  const int w = cairo_image_surface_get_width(img), h = cairo_image_surface_get_height(img);
+  const int stride = cairo_image_surface_get_stride(img);
+  const unsigned char* d = cairo_image_surface_get_data(img);
+  int n = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const auto px = reinterpret_cast<const std::uint32_t*>(d + y * stride)[x];  // ARGB32, opaque here
+      const int r = (px >> 16) & 0xff, g = (px >> 8) & 0xff, b = px & 0xff;
+      if (std::abs(r - 140) < 12 && std::abs(g - 51) < 12 && std::abs(b - 166) < 12) ++n;
+    }
+  cairo_surface_destroy(img);
+  return n;
+}
+}  // namespace
+
+// The PLC's signal writes of a run (--stimulus) are marked on the speed panel, and only there.
+TEST(Plot, SignalEventsAreMarkedOnTheSpeedPanel) {
+  const auto prog = rounded_square();
+  const auto tr = realistic_trace(prog);
+  const std::string plain = ::testing::TempDir() + "report_plot_plain.png";
+  const std::string marked = ::testing::TempDir() + "report_plot_events.png";
+  write_plot(plain, prog, test_table(), tr);
+  write_plot(marked, prog, test_table(), tr, {{0.5, "hold"}, {1.0, "release"}, {tr.rows.back().t_s, "stop"}});
+  EXPECT_EQ(event_pixels(plain), 0);
+  EXPECT_GT(event_pixels(marked), 150);  // three dashed lines across the panel, and their labels
 }
