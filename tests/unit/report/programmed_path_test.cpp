@@ -1,0 +1,69 @@
+// The programmed path the reports measure against: its deviation search (a start at the last
+// nearest move, then ball bounds) finds what trying every move finds.
+#include "report/programmed_path.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <string>
+
+#include "program/iso/parser.hpp"
+
+using namespace softmc;
+
+namespace {
+// A G5.2 spiral of `n` control points: one instruction of many NURBS pieces, turn upon turn close
+// together, between two lines.
+program::Program spiral(int n) {
+  std::string text = "G21 G90 G64 P0.05\nG0 X310 Y200\nG1 X310 Y200.5 F3000\nG5.2 X310 Y200 L4 P1\n";
+  for (int i = 1; i < n; ++i) {
+    const double a = i * 0.05, r = 10 + 0.02 * i;
+    text += "X" + std::to_string(300 + r * std::cos(a)) + " Y" + std::to_string(200 + r * std::sin(a)) + " P1\n";
+  }
+  text += "G5.3\nG1 X400 Y260\nM30\n";
+  auto r = program::iso::parse(text, "spiral.ngc");
+  EXPECT_TRUE(r.program) << (r.diagnostics.empty() ? "" : r.diagnostics.front().format());
+  return r.program ? *r.program : program::Program{};
+}
+
+// Every move of instructions tag - 1 .. tag + 1 tried: the definition the search must meet.
+double brute_force(const report::ProgrammedPath& pp, const core::Vec& p, std::uint32_t tag) {
+  const std::size_t first = *pp.move_of[tag];
+  std::size_t last = first;
+  while (last + 1 < pp.moves.size() && pp.moves[last + 1].instruction <= tag) ++last;
+  double d = std::numeric_limits<double>::infinity();
+  for (std::size_t m = first > 0 ? first - 1 : 0; m <= std::min(last + 1, pp.moves.size() - 1); ++m)
+    d = std::min(d, pp.moves[m].segment.distance_to(p, 0));
+  return d;
+}
+}  // namespace
+
+TEST(ProgrammedPath, DeviationSearchFindsWhatTryingEveryMoveFinds) {
+  const auto prog = spiral(200);
+  const auto pp = report::programmed_path(prog);
+  std::uint32_t nurbs = 0;
+  for (std::uint32_t i = 0; i < prog.instructions.size(); ++i)
+    if (std::holds_alternative<program::Nurbs>(prog.instructions[i].op)) nurbs = i;
+  ASSERT_GT(pp.moves.size(), 100u);  // the spiral is in many pieces
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> off(-0.3, 0.3);
+  std::uniform_int_distribution<std::size_t> pick(0, pp.moves.size() - 1);
+  // Points near the path, walked along it (as a trace does), then jumping anywhere.
+  for (int k = 0; k < 600; ++k) {
+    const std::size_t m = k < 300 ? k * pp.moves.size() / 300 : pick(rng);
+    const auto& mv = pp.moves[m];
+    core::Vec p = mv.segment.point(mv.segment.length * (k % 7) / 7.0);
+    p[0] += off(rng);
+    p[1] += off(rng);
+    const auto tag = static_cast<std::uint32_t>(mv.instruction);
+    const double want = brute_force(pp, p, tag);
+    EXPECT_NEAR(pp.deviation_mm(p, tag, tag, true, 0), want, 1e-12) << k;
+    // With `enough`: a value at or below it when the distance is, else the distance itself.
+    const double got = pp.deviation_mm(p, tag, tag, true, 0.1);
+    if (want <= 0.1) EXPECT_LE(got, 0.1) << k;
+    else EXPECT_NEAR(got, want, 1e-12) << k;
+  }
+  EXPECT_GT(nurbs, 0u);
+}
