@@ -149,6 +149,8 @@ bool Channel::start(const core::Vec& from) {
   if (!prog_ || (state_ != ChannelState::Idle && state_ != ChannelState::Finished)) return false;
   pc_ = 0;
   stop_kind_ = motion::StopKind::None;
+  override_enabled_ = true;
+  set_override();
   plan_pos_ = from;
   path_tolerance_mm_ = -1;
   dwell_left_s_ = 0;
@@ -173,7 +175,8 @@ void Channel::fault(const char* message) {
 
 // rt-safe
 void Channel::apply(MotionSignals& signals) {
-  interp_.set_feed_override(signals.feed_override());
+  feed_override_ = signals.feed_override();
+  set_override();
   interp_.set_feed_hold(signals.feed_hold);
   // P-2: the channel's path moves all its axes together, so one axis held holds the path.
   bool enable = true;
@@ -262,6 +265,12 @@ void Channel::update(double dt_s) {
       ++pc_;
     } else if (const auto* m = std::get_if<program::MFunction>(&op)) {
       last_m_ = m->number;
+      // M48/M49 (and G84's own): the motion before has ended, so the override applies exactly
+      // from the next motion on, already in this cycle's step.
+      if (m->number == 48 || m->number == 49) {
+        override_enabled_ = m->number == 48;
+        set_override();
+      }
       ++pc_;
     } else if (std::holds_alternative<program::ProgramEnd>(op)) {
       tool_on_ = false;  // program end switches the tool off (RS274: M2/M30 imply M5)

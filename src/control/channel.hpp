@@ -85,6 +85,9 @@ class Channel {
   motion::StopKind stop_kind_ = motion::StopKind::None;
   std::uint32_t stop_pc_ = 0;
   bool stop_pulse_was_ = false;  // stop_pulse in the last apply(): a stop on its rising edge only
+  double feed_override_ = 1;      // the PLC's override (P-8) from the last apply()
+  bool override_enabled_ = true;  // M48 (on) / M49 (off: the programmed feed, whatever the override)
+  void set_override() { interp_.set_feed_override(override_enabled_ ? feed_override_ : 1.0); }
   // Precomputed curve segments: curve_first_[i] .. curve_first_[i + 1] are instruction i's
   // (sized at load, one entry per instruction plus one).
   std::vector<motion::Segment> curve_segments_;

@@ -316,3 +316,26 @@ TEST(Channel, P5_StopDuringADwellEndsItAtOnce) {
   EXPECT_FALSE(r.ch.dwelling());
   EXPECT_EQ(r.ch.last_m(), -1);
 }
+
+// M49 runs the following moves at the programmed feed whatever the PLC's override, M48 gives the
+// override back (both act at their exact stop, so from the next move's first cycle).
+TEST(Channel, P8_M49DisablesTheOverrideAndM48EnablesIt) {
+  auto p = prog({program::Linear{xy(60, 0), 50}, program::MFunction{49}, program::Linear{xy(120, 0), 50},
+                 program::MFunction{48}, program::Linear{xy(180, 0), 50}, program::ProgramEnd{}});
+  Rig r;
+  r.sig.feed_override_permille = 500;
+  r.ch.load(p);
+  ASSERT_TRUE(r.ch.start({}));
+  double top[3] = {0, 0, 0};
+  while (r.ch.state() == control::ChannelState::Running && r.cycles < 100000) {
+    r.cycle();
+    const auto& sp = r.interp.setpoint();
+    const int k = sp.pos[0] <= 60 && sp.tag == 0 ? 0 : sp.tag <= 2 ? 1 : 2;
+    top[k] = std::max(top[k], sp.path_v);
+  }
+  EXPECT_EQ(r.ch.state(), control::ChannelState::Finished);
+  EXPECT_NEAR(top[0], 25, 1e-9);
+  EXPECT_NEAR(top[1], 50, 1e-9);
+  EXPECT_NEAR(top[2], 25, 1e-9);
+  EXPECT_EQ(r.interp.setpoint().pos, xy(180, 0));
+}
