@@ -339,3 +339,60 @@ TEST(Channel, P8_M49DisablesTheOverrideAndM48EnablesIt) {
   EXPECT_NEAR(top[2], 25, 1e-9);
   EXPECT_EQ(r.interp.setpoint().pos, xy(180, 0));
 }
+
+// The channel's states and every transition between them, as a table: from a state, an event,
+// the state after it.
+TEST(Channel, StateTransitionsTable) {
+  using S = control::ChannelState;
+  enum class Ev { Load, Start, Stop, EStop, Fault, RunOut };
+  const auto p = prog({program::Linear{xy(100, 0), 50}, program::ProgramEnd{}});
+  // Brings a fresh rig into state s.
+  const auto reach = [&](Rig& r, S s) {
+    r.ch.load(p);
+    if (s == S::Idle) return;
+    if (s == S::Fault) return r.ch.fault("drive");
+    ASSERT_TRUE(r.ch.start({}));
+    if (s == S::Running) return r.cycle();
+    if (s == S::Finished) return r.run();
+    for (int k = 0; k < 500; ++k) r.cycle();  // moving at speed
+    r.sig.stop_request = true;
+    r.cycle();
+    if (s == S::Stopping) return;
+    while (r.ch.state() == S::Stopping && r.cycles < 100000) r.cycle();
+  };
+  // Applies ev; for RunOut, cycles until the state changes (at most 20 s).
+  const auto act = [&](Rig& r, Ev ev) {
+    switch (ev) {
+      case Ev::Load: r.ch.load(p); break;
+      case Ev::Start: r.ch.start({}); break;
+      case Ev::Stop: r.sig.stop_request = true; r.cycle(); break;
+      case Ev::EStop: r.sig.emergency_stop_request = true; r.cycle(); break;
+      case Ev::Fault: r.ch.fault("drive"); break;
+      case Ev::RunOut: {
+        const S from = r.ch.state();
+        for (int k = 0; k < 20000 && r.ch.state() == from; ++k) r.cycle();
+        break;
+      }
+    }
+  };
+  const struct {
+    S from;
+    Ev ev;
+    S to;
+  } table[] = {
+      {S::Idle, Ev::Start, S::Running},       {S::Idle, Ev::Stop, S::Idle},          {S::Idle, Ev::Fault, S::Fault},
+      {S::Running, Ev::RunOut, S::Finished},  {S::Running, Ev::Stop, S::Stopping},  {S::Running, Ev::EStop, S::Stopping},
+      {S::Running, Ev::Fault, S::Fault},      {S::Running, Ev::Start, S::Running},  {S::Stopping, Ev::RunOut, S::Stopped},
+      {S::Stopping, Ev::EStop, S::Stopping},  {S::Stopping, Ev::Fault, S::Fault},   {S::Stopping, Ev::Start, S::Stopping},
+      {S::Stopped, Ev::Start, S::Stopped},    {S::Stopped, Ev::Stop, S::Stopped},   {S::Stopped, Ev::Load, S::Idle},
+      {S::Finished, Ev::Start, S::Running},   {S::Finished, Ev::Stop, S::Finished}, {S::Fault, Ev::Start, S::Fault},
+      {S::Fault, Ev::Stop, S::Fault},         {S::Fault, Ev::Load, S::Idle},
+  };
+  for (const auto& t : table) {
+    Rig r;
+    reach(r, t.from);
+    ASSERT_EQ(r.ch.state(), t.from) << control::to_string(t.from);
+    act(r, t.ev);
+    EXPECT_EQ(r.ch.state(), t.to) << control::to_string(t.from) << " event " << static_cast<int>(t.ev);
+  }
+}
