@@ -2,6 +2,7 @@
 #include "simulation.hpp"
 
 #include "control/travel_check.hpp"
+#include "report/programmed_path.hpp"
 
 #include <fmt/format.h>
 
@@ -107,8 +108,14 @@ bool Simulation::held_for_good() const {
 
 std::string Simulation::stop_text() const {
   const char* by = channel_.stop_kind() == motion::StopKind::Emergency ? "P-5 emergency stop" : "P-5 stop";
-  return fmt::format("stopped ({}) at {}, t = {:.3f} s", by, location(prog_, channel_.stop_instruction()),
-                     time_s());
+  // The instruction whose programmed motion the machine stands on: a smoothing piece or a blend
+  // carries its neighbour's tag over part of its length.
+  const auto& sp = interp_.setpoint();
+  const auto at = channel_.stopped_in_motion()
+                      ? report::programmed_path(prog_).nearest_instruction(sp.pos, sp.tag, sp.tag_last)
+                      : std::nullopt;
+  return fmt::format("stopped ({}) at {}, t = {:.3f} s", by,
+                     location(prog_, at ? static_cast<std::uint32_t>(*at) : channel_.stop_instruction()), time_s());
 }
 
 std::string Simulation::held_text() const {
@@ -135,6 +142,9 @@ report::TraceRow Simulation::row() const {
   r.moving = sp.moving;
   r.rapid = sp.rapid;
   r.tool_on = channel_.tool_on();
+  // From the cycle the brake ends in (the channel sees it in the next one) to the end of the run.
+  r.stopped = (channel_.state() == control::ChannelState::Stopping || channel_.state() == control::ChannelState::Stopped) &&
+              channel_.stopped_in_motion();
   return r;
 }
 

@@ -149,6 +149,7 @@ bool Channel::start(const core::Vec& from) {
   if (!prog_ || (state_ != ChannelState::Idle && state_ != ChannelState::Finished)) return false;
   pc_ = 0;
   stop_kind_ = motion::StopKind::None;
+  interp_.cancel_stop();  // a stop a fault cut short must not end this run at once
   override_enabled_ = true;
   set_override();
   plan_pos_ = from;
@@ -197,6 +198,13 @@ void Channel::apply(MotionSignals& signals) {
 void Channel::stop(motion::StopKind kind) {
   if (state_ != ChannelState::Running && state_ != ChannelState::Stopping) return;
   if (kind > stop_kind_) stop_kind_ = kind;  // an emergency stop is never weakened
+  if (state_ == ChannelState::Running) {
+    // Where the program stopped: with nothing in motion, the instruction it waits at or dwells in;
+    // otherwise the block the path comes to rest on (update()).
+    stop_in_motion_ = !interp_.idle();
+    const auto n = static_cast<std::uint32_t>(prog_->instructions.size());
+    stop_pc_ = std::min(dwelling() && pc_ > 0 ? pc_ - 1 : pc_, n > 0 ? n - 1 : 0);
+  }
   state_ = ChannelState::Stopping;
   dwell_left_s_ = 0;
   interp_.request_stop(kind);
@@ -208,7 +216,7 @@ void Channel::update(double dt_s) {
     // The interpolator drops everything planned at rest; with nothing in motion there is nothing to brake.
     if (!interp_.stopped() && !interp_.idle()) return;
     interp_.acknowledge_stop();
-    stop_pc_ = interp_.setpoint().tag;
+    if (stop_in_motion_) stop_pc_ = interp_.setpoint().tag;
     state_ = ChannelState::Stopped;
     return;
   }

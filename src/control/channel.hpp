@@ -59,7 +59,10 @@ class Channel {
   // P-7 stop_confirmed: a running program was actually stopped; stays true until the next start.
   bool stop_confirmed() const { return state_ == ChannelState::Stopped; }
   motion::StopKind stop_kind() const { return stop_kind_; }  // the strongest stop taken (None: none)
-  std::uint32_t stop_instruction() const { return stop_pc_; }  // the instruction the path stopped on
+  // The instruction the program stopped at: the block the path came to rest on, or with nothing in
+  // motion the instruction it waited at or dwelt in (stopped_in_motion() tells which).
+  std::uint32_t stop_instruction() const { return stop_pc_; }
+  bool stopped_in_motion() const { return stop_in_motion_; }
 
  private:
   void fail(const char* message, motion::PlanResult r);
@@ -84,6 +87,7 @@ class Channel {
   std::uint32_t fault_pc_ = 0;
   motion::StopKind stop_kind_ = motion::StopKind::None;
   std::uint32_t stop_pc_ = 0;
+  bool stop_in_motion_ = false;
   bool stop_pulse_was_ = false;  // stop_pulse in the last apply(): a stop on its rising edge only
   double feed_override_ = 1;      // the PLC's override (P-8) from the last apply()
   bool override_enabled_ = true;  // M48 (on) / M49 (off: the programmed feed, whatever the override)

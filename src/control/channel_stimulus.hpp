@@ -61,7 +61,7 @@ ChannelStimulusParseResult parse_channel_stimulus(std::string_view text, const s
 // Reads and parses a file; an unreadable file is one diagnostic.
 ChannelStimulusParseResult load_channel_stimulus(const std::string& path, core::AxisMask axes);
 
-// A few words for plots: "%F 50", "× 0.8", "hold", "release", "Y off", "stop", "e-stop"; empty
+// A few words for plots: "%F 50", "x 80 %", "hold", "release", "Y off", "stop", "e-stop"; empty
 // for a write that does nothing by itself (stop_pulse 0).
 std::string short_label(const ChannelStimulusEvent& e);
 

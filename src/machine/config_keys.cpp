@@ -42,6 +42,9 @@ std::optional<std::string> rule_violation(ConfigRule rule, double v) {
     case ConfigRule::UnitInterval:
       if (!(v >= 0 && v <= 1)) return "must be between 0 and 1" + got;
       break;
+    case ConfigRule::AtLeastOne:
+      if (!(finite && v >= 1)) return "must be >= 1" + got;
+      break;
     case ConfigRule::Period:
       if (!(v >= kMinPeriod_s && v <= kMaxPeriod_s))
         return fmt::format("must be between {} and {} s{}", kMinPeriod_s, kMaxPeriod_s, got);

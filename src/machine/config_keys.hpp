@@ -19,6 +19,7 @@ enum class ConfigRule : std::uint8_t {
   Positive,      // > 0
   NonNegative,   // >= 0
   UnitInterval,  // in [0, 1]
+  AtLeastOne,    // >= 1 (a factor that may only make something stronger)
   Period,        // in [kMinPeriod_s, kMaxPeriod_s]
   Queue,         // integer in [kMinQueue, kMaxQueue]
   NonEmpty,      // a non-empty string
@@ -95,7 +96,7 @@ inline const std::array<ConfigKey<PlannerMachineConfig>, 8> kPlannerKeys{{
     {"tolerance_mm", &PlannerMachineConfig::tolerance_mm, ConfigRule::NonNegative},
     {"lookahead", &PlannerMachineConfig::lookahead, ConfigRule::Queue},
     {"max_feed_override", &PlannerMachineConfig::max_feed_override, ConfigRule::Positive},
-    {"emergency_accel_scale", &PlannerMachineConfig::emergency_accel_scale, ConfigRule::Positive},
+    {"emergency_accel_scale", &PlannerMachineConfig::emergency_accel_scale, ConfigRule::AtLeastOne},
     {"merge_share", &PlannerMachineConfig::merge_share, ConfigRule::UnitInterval},
     {"smoothing_turn_deg", &PlannerMachineConfig::smoothing_turn_deg, ConfigRule::NonNegative},
     {"fillet_share", &PlannerMachineConfig::fillet_share, ConfigRule::UnitInterval},

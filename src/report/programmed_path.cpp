@@ -2,11 +2,24 @@
 #include "report/programmed_path.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "control/path.hpp"
 
 namespace softmc::report {
+
+namespace {
+// Distance of p from the box [lo, hi] (0 inside it).
+double box_distance(const core::Vec& p, const core::Vec& lo, const core::Vec& hi) {
+  double d2 = 0;
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
+    const double e = std::max({lo[i] - p[i], 0.0, p[i] - hi[i]});
+    d2 += e * e;
+  }
+  return std::sqrt(d2);
+}
+}  // namespace
 
 ProgrammedPath programmed_path(const program::Program& prog) {
   ProgrammedPath pp;
@@ -30,8 +43,7 @@ ProgrammedPath programmed_path(const program::Program& prog) {
       m.instruction = i;
       m.kind = std::holds_alternative<program::Rapid>(op) ? MoveKind::Rapid : tool_on ? MoveKind::Cut : MoveKind::Feed;
       m.segment = geo.pieces[next_piece].segment;
-      m.half_mm = 0.5 * m.segment.length;
-      m.mid = m.segment.point(m.half_mm);
+      m.segment.bounds(m.lo, m.hi);
       pos = m.segment.end;
       if (!pp.move_of[i]) pp.move_of[i] = pp.moves.size();
       pp.moves.push_back(m);
@@ -41,37 +53,48 @@ ProgrammedPath programmed_path(const program::Program& prog) {
     pp.moves_upto[i] = pp.moves.size();
   }
   pp.end = pos;
-  // Each group's ball: centred on the middle of its moves' mids' box, wide enough for every move's own ball.
+  // Each group's box: the union of its moves'.
   for (std::size_t g = 0; g * ProgrammedPath::kMovesPerGroup < pp.moves.size(); ++g) {
     const std::size_t a = g * ProgrammedPath::kMovesPerGroup;
     const std::size_t b = std::min(pp.moves.size(), a + ProgrammedPath::kMovesPerGroup);
-    core::Vec lo = pp.moves[a].mid, hi = lo;
-    for (std::size_t m = a; m < b; ++m)
+    MoveGroup grp{pp.moves[a].lo, pp.moves[a].hi};
+    for (std::size_t m = a + 1; m < b; ++m)
       for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
-        lo[i] = std::min(lo[i], pp.moves[m].mid[i]);
-        hi[i] = std::max(hi[i], pp.moves[m].mid[i]);
+        grp.lo[i] = std::min(grp.lo[i], pp.moves[m].lo[i]);
+        grp.hi[i] = std::max(grp.hi[i], pp.moves[m].hi[i]);
       }
-    MoveGroup grp;
-    grp.centre = (lo + hi) * 0.5;
-    for (std::size_t m = a; m < b; ++m)
-      grp.radius_mm = std::max(grp.radius_mm, core::distance(grp.centre, pp.moves[m].mid) + pp.moves[m].half_mm);
     pp.groups.push_back(grp);
   }
   return pp;
 }
 
-double ProgrammedPath::nearest_move_mm(const core::Vec& p, std::size_t lo, std::size_t hi, double enough) const {
+std::pair<std::size_t, std::size_t> ProgrammedPath::moves_around(std::uint32_t tag, std::uint32_t tag_last) const {
+  const std::size_t first = *move_of[tag];
+  const std::uint32_t upto = std::max(tag, tag_last);
+  const std::size_t last = std::max(first, (upto < moves_upto.size() ? moves_upto[upto] : moves.size()) - 1);
+  return {first > 0 ? first - 1 : 0, std::min(last + 1, moves.size() - 1)};
+}
+
+std::optional<std::size_t> ProgrammedPath::nearest_instruction(const core::Vec& p, std::uint32_t tag,
+                                                               std::uint32_t tag_last) const {
+  if (tag >= move_of.size() || !move_of[tag]) return std::nullopt;
+  nearest_move_mm(p, moves_around(tag, tag_last), 0);
+  return moves[hint_].instruction;
+}
+
+double ProgrammedPath::nearest_move_mm(const core::Vec& p, std::pair<std::size_t, std::size_t> range, double enough) const {
+  const auto [lo, hi] = range;
   double best = std::numeric_limits<double>::infinity();
   std::size_t best_m = hint_;
   const auto try_move = [&](std::size_t m) {
     const auto& mv = moves[m];
-    if (core::distance(p, mv.mid) - mv.half_mm >= best) return;
+    if (box_distance(p, mv.lo, mv.hi) >= best) return;
     const double d = mv.segment.distance_to(p, enough);
     if (d < best) best = d, best_m = m;
   };
   if (hint_ >= lo && hint_ <= hi) try_move(hint_);
   for (std::size_t g = lo / kMovesPerGroup; best > enough && g * kMovesPerGroup <= hi; ++g) {
-    if (core::distance(p, groups[g].centre) - groups[g].radius_mm >= best) continue;
+    if (box_distance(p, groups[g].lo, groups[g].hi) >= best) continue;
     const std::size_t a = std::max(lo, g * kMovesPerGroup), b = std::min(hi + 1, (g + 1) * kMovesPerGroup);
     for (std::size_t m = a; m < b && best > enough; ++m)
       if (m != hint_) try_move(m);
@@ -82,20 +105,13 @@ double ProgrammedPath::nearest_move_mm(const core::Vec& p, std::size_t lo, std::
 
 double ProgrammedPath::deviation_mm(const core::Vec& p, std::uint32_t tag, std::uint32_t tag_last, bool moving, double enough) const {
   if (tag >= before.size()) return core::distance(p, end);
-  // The segments of moves[first - pad] .. moves[last + pad]: every piece of the instructions (a
-  // curve has several), and `pad` motions on either side.
-  const auto from_moves = [&](std::size_t pad) {
-    const std::size_t first = *move_of[tag];
-    const std::uint32_t upto = std::max(tag, tag_last);
-    const std::size_t last = std::max(first, (upto < moves_upto.size() ? moves_upto[upto] : moves.size()) - 1);
-    return nearest_move_mm(p, first > pad ? first - pad : 0, std::min(last + pad, moves.size() - 1), enough);
-  };
-  if (moving && move_of[tag]) return from_moves(1);
+  // The segments of every piece of the instructions (a curve has several) and of the motions on
+  // either side: a corner blend belongs to both, and a smoothing piece reaches into the line before.
+  const auto from_moves = [&] { return nearest_move_mm(p, moves_around(tag, tag_last), enough); };
+  if (moving && move_of[tag]) return from_moves();
   // At rest: where the instruction began or ended; a merged line ends where its last one does.
   const std::uint32_t last = std::max(tag, tag_last) < after.size() ? std::max(tag, tag_last) : tag;
-  const double d = std::min({core::distance(p, before[tag]), core::distance(p, after[tag]), core::distance(p, after[last])});
-  // Or inside it: a stop (P-5) brakes to rest on the path and ends the run there.
-  return d > enough && move_of[tag] ? std::min(d, from_moves(0)) : d;
+  return std::min({core::distance(p, before[tag]), core::distance(p, after[tag]), core::distance(p, after[last])});
 }
 
 }  // namespace softmc::report

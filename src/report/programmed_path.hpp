@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "core/axes.hpp"
@@ -17,17 +18,15 @@ struct ProgrammedMove {
   std::size_t instruction = 0;  // index into Program::instructions
   MoveKind kind = MoveKind::Feed;
   motion::Segment segment;
-  // Every point of the segment lies within half_mm (half its length) of mid, its point halfway
-  // along: |p − mid| − half_mm is a lower bound of its distance from p.
-  core::Vec mid;
-  double half_mm = 0;
+  // The segment's bounding box (Segment::bounds: every point of it inside): p's distance from the
+  // box is a lower bound of its distance from the segment.
+  core::Vec lo, hi;
 };
 
-// A bounding ball of kMovesPerGroup consecutive moves (the deviation search skips the group where
-// its ball is farther than the nearest move found so far).
+// The bounding box of kMovesPerGroup consecutive moves (the deviation search skips the group where
+// its box is farther than the nearest move found so far).
 struct MoveGroup {
-  core::Vec centre;
-  double radius_mm = 0;
+  core::Vec lo, hi;
 };
 
 // The program walked from its start position, tracking the tool from ToolSwitch, independently of
@@ -46,18 +45,26 @@ struct ProgrammedPath {
   // Distance of p from the programmed path around instructions `tag`..`tag_last` (a line the planner
   // merged from several programmed ones stands for all of them). Moving: from those motions'
   // segments or the motions on either side (a corner blend belongs to both and the tag switches at a
-  // cycle boundary, so measuring against one segment alone would overstate it). Standing: from the
-  // position before or after that instruction (tag names the motion that just finished), or from its
-  // segments (a P-5 stop ends the run at rest inside it). A caller
+  // cycle boundary, so measuring against one segment alone would overstate it; a P-5 stop that
+  // ends the run inside a motion is measured so too: pass moving). Standing: from the position
+  // before or after that instruction (tag names the motion that just finished). A caller
   // after the largest deviation passes it as `enough`: at or below it, any value at or below it.
   // The search starts at the move nearest the last point asked about (a trace moves along the
-  // path), then skips what the move and group bounds rule out: a curve of thousands of pieces costs
-  // about a group's bounds per row instead of a Newton search per piece.
+  // path), then skips what the move and group boxes rule out: a curve of thousands of pieces costs
+  // about a box per group per row instead of a Newton search per piece. It keeps that start in the
+  // path (a const method that writes a hint): one ProgrammedPath per thread.
   double deviation_mm(const core::Vec& p, std::uint32_t tag, std::uint32_t tag_last, bool moving, double enough = 0) const;
+  // The instruction whose motion lies nearest p among those deviation_mm measures from (a setpoint
+  // on a smoothing piece or a blend carries one instruction's tag, but may lie on its neighbour);
+  // nothing for an instruction without motion.
+  std::optional<std::size_t> nearest_instruction(const core::Vec& p, std::uint32_t tag, std::uint32_t tag_last) const;
 
  private:
-  // Least distance from p of moves[lo..hi], or any value ≤ enough once one is found.
-  double nearest_move_mm(const core::Vec& p, std::size_t lo, std::size_t hi, double enough) const;
+  // The moves of instructions tag..tag_last and one on either side (first, last).
+  std::pair<std::size_t, std::size_t> moves_around(std::uint32_t tag, std::uint32_t tag_last) const;
+  // Least distance from p of moves[range.first..range.second], or any value ≤ enough once one is
+  // found; hint_ is then the move it came from.
+  double nearest_move_mm(const core::Vec& p, std::pair<std::size_t, std::size_t> range, double enough) const;
   mutable std::size_t hint_ = 0;  // the move found nearest last time
   friend ProgrammedPath programmed_path(const program::Program& prog);
 };

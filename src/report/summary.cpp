@@ -52,7 +52,7 @@ void SummaryBuilder::add(const TraceRow& row) {
   s.cycle_time_s = row.t_s;
   const double dt = s.period_s;
   const std::size_t r = rows_;
-  s.max_path_deviation_mm = std::max(s.max_path_deviation_mm, path_.deviation_mm(row.cmd, row.tag, row.tag_last, row.moving, s.max_path_deviation_mm));
+  s.max_path_deviation_mm = std::max(s.max_path_deviation_mm, path_.deviation_mm(row.cmd, row.tag, row.tag_last, row.moving || row.stopped, s.max_path_deviation_mm));
   s.max_path_speed_mm_s = std::max(s.max_path_speed_mm_s, row.path_v);
   for_each_axis(s.axes, [&](std::size_t i) {
     AxisSummary& a = s.axis[i];

@@ -28,9 +28,10 @@ struct SignalRun {
   app::SimResult res;
   report::Summary sum;
 };
-SignalRun run(const std::string& stimulus, const machine::MachineConfig& cfg = machine::default_machine()) {
+SignalRun run(const std::string& stimulus, const machine::MachineConfig& cfg = machine::default_machine(),
+              const std::string& program = kProgram) {
   SignalRun out;
-  auto p = program::iso::parse(kProgram, "sig.ngc");
+  auto p = program::iso::parse(program, "sig.ngc");
   EXPECT_TRUE(p.program);
   out.prog = *p.program;
   auto st = control::parse_channel_stimulus(stimulus, "sig.stim", cfg.axis_mask());
@@ -48,7 +49,9 @@ void expect_within_limits(const SignalRun& r, const machine::MachineConfig& cfg,
     if (!a.enabled) continue;
     EXPECT_LE(r.sum.axis[a.index].max_vel_mm_s, a.max_vel_mm_s * (1 + 1e-9)) << a.name;
     EXPECT_LE(r.sum.axis[a.index].max_acc_mm_s2, scale * a.max_acc_mm_s2 * (1 + 1e-6)) << a.name;
-    if (a.max_jerk_mm_s3 > 0) EXPECT_LE(r.sum.axis[a.index].max_jerk_mm_s3, scale * a.max_jerk_mm_s3 * (1 + 1e-4)) << a.name;
+    if (a.max_jerk_mm_s3 > 0) {
+      EXPECT_LE(r.sum.axis[a.index].max_jerk_mm_s3, scale * a.max_jerk_mm_s3 * (1 + 1e-4)) << a.name;
+    }
   }
 }
 
@@ -145,6 +148,25 @@ TEST(RunSignals, P5_EmergencyStopBrakesWithTheConfiguredScale) {
   expect_within_limits(normal, cfg);
   expect_within_limits(emergency, cfg, 2);
   EXPECT_GT(emergency.sum.axis[0].max_acc_mm_s2, 1.5 * cfg.axes[0].max_acc_mm_s2);
+}
+
+// A stop that ends the run in a corner blend, or on a smoothing piece that carries the next line's
+// tag over part of the line before (a fuzzer's cases): the summary measures the stopped position as
+// it measures a moving one, from the motions around it, and the message names the line the
+// machine stands on.
+TEST(RunSignals, P5_AStopInABlendOrASmoothedRunIsOnThePathAndNamesItsLine) {
+  const auto cfg = machine::default_machine();
+  // 0.93 s: 70 ms before the corner of a G64 P1 blend, stopped inside it.
+  const auto blend = run("0.93 emergency_stop_request 1\n", cfg, "G21 G90 G64 P1\nG1 X100 Y0 F6000\nG1 X100 Y100\nM30\n");
+  ASSERT_TRUE(blend.res.stopped) << blend.res.result;
+  EXPECT_GT(blend.res.trace.rows.back().cmd[1], 0.1);  // past the corner's start: in the blend
+  EXPECT_LE(blend.sum.max_path_deviation_mm, 1.0);
+  // A long line and a tiny one smoothed together: at X30 the machine is on line 2.
+  const auto smooth = run("3 stop_request 1\n", cfg, "G21 G90\nG1 X50 Y0 F600\nG1 X50.05 Y0.005\nM30\n");
+  ASSERT_TRUE(smooth.res.stopped) << smooth.res.result;
+  EXPECT_EQ(smooth.res.result.rfind("stopped (P-5 stop) at sig.ngc:2:1, t = ", 0), 0u) << smooth.res.result;
+  EXPECT_LE(smooth.sum.max_path_deviation_mm, 0.05);
+  EXPECT_NEAR(smooth.res.trace.rows.back().cmd[0], 30, 0.1);
 }
 
 // A run held at rest with no event left that could release it ends with an error naming why and

@@ -127,8 +127,9 @@ TEST(Run, GcodeExamplesRunOnTheRouter) {
     for (const auto& a : cfg.axes) {
       EXPECT_LE(s.axis[a.index].max_vel_mm_s, a.max_vel_mm_s * (1 + 1e-6)) << f << " axis " << a.name;
       EXPECT_LE(s.axis[a.index].max_acc_mm_s2, a.max_acc_mm_s2 * (1 + 1e-3)) << f << " axis " << a.name;
-      if (a.max_jerk_mm_s3 > 0)  // the summary's jerk: third differences of the setpoints
+      if (a.max_jerk_mm_s3 > 0) {  // the summary's jerk: third differences of the setpoints
         EXPECT_LE(s.axis[a.index].max_jerk_mm_s3, a.max_jerk_mm_s3 * (1 + 1e-4)) << f << " axis " << a.name;
+      }
     }
     EXPECT_GT(s.axis[0].max_jerk_mm_s3, 0.5 * cfg.axes[0].max_jerk_mm_s3) << f;  // used, not avoided
   }

@@ -9,6 +9,7 @@
 // one cycle), so block boundaries are not rounded to the cycle.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 
 #include "motion/interp/jerk_follower.hpp"
@@ -35,7 +36,7 @@ enum class StopKind : std::uint8_t { None, Normal, Emergency };
 
 struct InterpolatorConfig {
   double max_feed_override = 2.0;      // P-8: the override is clamped to [0, this]
-  double emergency_accel_scale = 1.0;  // P-5: emergency ramp relative to the normal one
+  double emergency_accel_scale = 1.0;  // P-5: emergency ramp relative to the normal one (≥ 1; less is taken as 1)
   int max_blocks_per_cycle = 512;      // bounds one cycle's work; 512 blocks per ms = 512k blocks/s
   // Jerk mode (the S-curve path profile) looks at most this many blocks ahead per cycle; the end of
   // that horizon is treated as a point to stop at, so it is always safe (only slower when too short).
@@ -74,6 +75,8 @@ class Interpolator {
   Interpolator(PlanQueue& queue, const Vec& start, const InterpolatorConfig& config = {})
       : queue_(queue), config_(config), scratch_(queue.ring().capacity()) {
     sp_.pos = start;
+    // Below 1 a stop would brake more gently than the corners ahead were planned for.
+    config_.emergency_accel_scale = std::max(1.0, config_.emergency_accel_scale);
   }
 
   // rt-safe. Advances time by dt and returns the new setpoint.
@@ -96,6 +99,12 @@ class Interpolator {
   // True when a stop has ended, until acknowledge_stop().
   bool stopped() const { return stopped_; }
   void acknowledge_stop() { stopped_ = false; }
+  // rt-safe. Forgets a stop requested or ended and not acknowledged (a fault cut it short): a new
+  // program starts without it. The queue is the caller's (empty when a program starts).
+  void cancel_stop() {
+    stop_ = StopKind::None;
+    stopped_ = false;
+  }
   bool stopping() const { return stop_ != StopKind::None; }
   double feed_override() const { return override_; }
   // Jerk mode: cycles run, and candidate steps whose verdict needed the simulation of π (the rest

@@ -318,8 +318,9 @@ TEST(Channel, P5_StopDuringADwellEndsItAtOnce) {
 }
 
 // M49 runs the following moves at the programmed feed whatever the PLC's override, M48 gives the
-// override back (both act at their exact stop, so from the next move's first cycle).
-TEST(Channel, P8_M49DisablesTheOverrideAndM48EnablesIt) {
+// override back (both act at their exact stop, so from the next move's first cycle). P-10 lists
+// M48/M49 as override off/on; softmc follows RS274/LinuxCNC (M48 on), as CAM programs mean it.
+TEST(Channel, P10_M49DisablesTheOverrideAndM48EnablesIt) {
   auto p = prog({program::Linear{xy(60, 0), 50}, program::MFunction{49}, program::Linear{xy(120, 0), 50},
                  program::MFunction{48}, program::Linear{xy(180, 0), 50}, program::ProgramEnd{}});
   Rig r;
@@ -383,7 +384,7 @@ TEST(Channel, StateTransitionsTable) {
       {S::Idle, Ev::Start, S::Running},       {S::Idle, Ev::Stop, S::Idle},          {S::Idle, Ev::Fault, S::Fault},
       {S::Running, Ev::RunOut, S::Finished},  {S::Running, Ev::Stop, S::Stopping},  {S::Running, Ev::EStop, S::Stopping},
       {S::Running, Ev::Fault, S::Fault},      {S::Running, Ev::Start, S::Running},  {S::Stopping, Ev::RunOut, S::Stopped},
-      {S::Stopping, Ev::EStop, S::Stopping},  {S::Stopping, Ev::Fault, S::Fault},   {S::Stopping, Ev::Start, S::Stopping},
+      {S::Stopping, Ev::EStop, S::Stopping},  {S::Stopping, Ev::Stop, S::Stopping},  {S::Stopping, Ev::Fault, S::Fault},   {S::Stopping, Ev::Start, S::Stopping},
       {S::Stopped, Ev::Start, S::Stopped},    {S::Stopped, Ev::Stop, S::Stopped},   {S::Stopped, Ev::Load, S::Idle},
       {S::Finished, Ev::Start, S::Running},   {S::Finished, Ev::Stop, S::Finished}, {S::Fault, Ev::Start, S::Fault},
       {S::Fault, Ev::Stop, S::Fault},         {S::Fault, Ev::Load, S::Idle},
@@ -395,4 +396,67 @@ TEST(Channel, StateTransitionsTable) {
     act(r, t.ev);
     EXPECT_EQ(r.ch.state(), t.to) << control::to_string(t.from) << " event " << static_cast<int>(t.ev);
   }
+}
+
+// A fault during Stopping leaves the interpolator's stop unacknowledged; the next program must not
+// see it: loaded and started again, it runs until a stop of its own.
+TEST(Channel, P5_AStopCutShortByAFaultDoesNotEndTheNextRun) {
+  const auto p = line_m_line();
+  Rig r;
+  cruising(r, p);
+  r.sig.stop_request = true;
+  r.cycle();
+  ASSERT_EQ(r.ch.state(), control::ChannelState::Stopping);
+  r.ch.fault("drive");
+  r.planner.queue().clear();  // as the application does on a fault
+  for (int k = 0; k < 5; ++k) r.interp.step(0.001);
+  r.ch.load(p);
+  ASSERT_TRUE(r.ch.start(r.interp.setpoint().pos));
+  for (int k = 0; k < 300; ++k) r.cycle();
+  EXPECT_EQ(r.ch.state(), control::ChannelState::Running);
+  EXPECT_GT(r.interp.setpoint().path_v, 10);
+  // Its own stop brakes first: Stopped only at rest (a stale `stopped` would end it at once).
+  r.sig.stop_request = true;
+  r.cycle();
+  r.cycle();
+  EXPECT_EQ(r.ch.state(), control::ChannelState::Stopping);
+  brake(r);
+  r.cycle();
+  EXPECT_EQ(r.ch.state(), control::ChannelState::Stopped);
+  EXPECT_EQ(r.interp.setpoint().path_v, 0);
+}
+
+// With nothing in motion the stop names the instruction the program waits at: the dwell here.
+TEST(Channel, P5_AStopDuringADwellNamesTheDwell) {
+  auto p = prog({program::Linear{xy(10, 0), 50}, program::Dwell{2.0}, program::Linear{xy(20, 0), 50},
+                 program::ProgramEnd{}});
+  Rig r;
+  r.ch.load(p);
+  r.ch.start({});
+  while (!r.ch.dwelling() && r.cycles < 10000) r.cycle();
+  for (int k = 0; k < 100; ++k) r.cycle();
+  r.sig.stop_request = true;
+  r.cycle();
+  EXPECT_EQ(r.ch.state(), control::ChannelState::Stopped);
+  EXPECT_FALSE(r.ch.stopped_in_motion());
+  EXPECT_EQ(r.ch.stop_instruction(), 1u);
+}
+
+// P-7 stop_confirmed: 0 while the path still brakes, 1 once a running program has actually
+// stopped, and 0 again when a program is loaded to be started.
+TEST(Channel, P7_StopConfirmedOnceStoppedUntilTheNextProgram) {
+  const auto p = line_m_line();
+  Rig r;
+  cruising(r, p);
+  EXPECT_FALSE(r.ch.stop_confirmed());
+  r.sig.stop_request = true;
+  r.cycle();
+  EXPECT_FALSE(r.ch.stop_confirmed());  // braking
+  brake(r);
+  r.cycle();
+  EXPECT_TRUE(r.ch.stop_confirmed());
+  for (int k = 0; k < 100; ++k) r.cycle();
+  EXPECT_TRUE(r.ch.stop_confirmed());
+  r.ch.load(p);
+  EXPECT_FALSE(r.ch.stop_confirmed());
 }

@@ -438,6 +438,7 @@ TEST(MachineConfig, ValidateChecksEveryRule) {
       {"kv 0", [](auto& c) { axis_of(c, kX).kv_1_s = 0; }, "axes.x.kv_1_s must be > 0 (got 0)"},
       {"ff < 0", [](auto& c) { axis_of(c, kX).feedforward = -0.1; }, "axes.x.feedforward must be between 0 and 1 (got -0.1)"},
       {"ff > 1", [](auto& c) { axis_of(c, kX).feedforward = 1.5; }, "axes.x.feedforward must be between 0 and 1 (got 1.5)"},
+      {"emergency scale < 1", [](auto& c) { c.planner.emergency_accel_scale = 0.3; }, "planner.emergency_accel_scale must be >= 1 (got 0.3)"},
       {"tau 0", [](auto& c) { axis_of(c, kX).drive_tau_s = 0; }, "axes.x.drive_tau_s must be > 0 (got 0)"},
       {"ferror 0", [](auto& c) { axis_of(c, kX).ferror_limit_mm = 0; }, "axes.x.ferror_limit_mm must be > 0 (got 0)"},
       {"overtravel < 0", [](auto& c) { axis_of(c, kX).switch_overtravel_mm = -2; }, "axes.x.switch_overtravel_mm must be >= 0 (got -2)"},

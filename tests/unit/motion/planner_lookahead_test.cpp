@@ -246,7 +246,9 @@ TEST(Lookahead, DenseTinyBlocksNeverOutrunTheCycleBudget) {
     EXPECT_EQ(res.end, xyz(42, 0));
     EXPECT_LE(res.fig.v_ratio, 1 + 1e-9) << "jerk " << j << ": " << res.fig.describe();
     EXPECT_LE(res.fig.a_ratio, 1 + 1e-6) << "jerk " << j << ": " << res.fig.describe();
-    if (j > 0) EXPECT_LE(res.fig.j_ratio, 1 + 1e-3) << res.fig.describe();
+    if (j > 0) {
+      EXPECT_LE(res.fig.j_ratio, 1 + 1e-3) << res.fig.describe();
+    }
     // Through the tiny blocks at 256 × 0.1 µm per ms = 25.6 mm/s, not crawling.
     EXPECT_LT(res.cycles, 1300u) << "jerk " << j;
   }
