@@ -178,6 +178,7 @@ void Channel::fault(const char* message) {
 void Channel::apply(MotionSignals& signals) {
   feed_override_ = signals.feed_override();
   set_override();
+  interp_.set_speed_limits(signals.feed_limit_mm_s(), signals.rapid_limit_mm_s());
   interp_.set_feed_hold(signals.feed_hold);
   // P-2: the channel's path moves all its axes together, so one axis held holds the path.
   bool enable = true;

@@ -19,6 +19,10 @@ struct SignalName {
 constexpr SignalName kSignals[] = {
     {"feed_override_permille", MotionSignal::FeedOverride, 65535},
     {"feed_override_multiplier_permille", MotionSignal::FeedOverrideMultiplier, 65535},
+    {"feed_limit_request", MotionSignal::FeedLimitRequest, 1},
+    {"feed_limit_mm_min", MotionSignal::FeedLimit, 65535},
+    {"rapid_limit_request", MotionSignal::RapidLimitRequest, 1},
+    {"rapid_limit_mm_min", MotionSignal::RapidLimit, 65535},
     {"feed_hold", MotionSignal::FeedHold, 1},
     {"axis_enable", MotionSignal::AxisEnable, 1},
     {"stop_pulse", MotionSignal::StopPulse, 1},
@@ -84,7 +88,8 @@ ChannelStimulusParseResult parse_channel_stimulus(std::string_view text, const s
     if (!sig) {
       error(line_no, f[1].col,
             "unknown signal '" + std::string(f[1].text) +
-                "' (feed_override_permille, feed_override_multiplier_permille, feed_hold, axis_enable[L], "
+                "' (feed_override_permille, feed_override_multiplier_permille, feed_limit_request, "
+                "feed_limit_mm_min, rapid_limit_request, rapid_limit_mm_min, feed_hold, axis_enable[L], "
                 "stop_pulse, stop_request, emergency_stop_request)");
       return;
     }
@@ -105,7 +110,9 @@ ChannelStimulusParseResult parse_channel_stimulus(std::string_view text, const s
       error(line_no, f[2].col,
             std::string(acknowledged ? "expected 1 (the channel clears the request when it takes it)"
                         : sig->max == 1 ? "expected 0 or 1"
-                                        : "expected a whole number of per mille 0..65535") +
+                        : sig->signal == MotionSignal::FeedLimit || sig->signal == MotionSignal::RapidLimit
+                            ? "expected a whole number of mm/min 0..65535"
+                            : "expected a whole number of per mille 0..65535") +
                 ", got '" + std::string(f[2].text) + "'");
       return;
     }
@@ -135,6 +142,10 @@ std::string short_label(const ChannelStimulusEvent& e) {
   switch (e.signal) {
     case MotionSignal::FeedOverride: return "%F " + permille(e.value);
     case MotionSignal::FeedOverrideMultiplier: return "x " + permille(e.value) + " %";
+    case MotionSignal::FeedLimitRequest: return e.value ? "feed limit" : "feed limit off";
+    case MotionSignal::FeedLimit: return "feed limit " + std::to_string(e.value) + " mm/min";
+    case MotionSignal::RapidLimitRequest: return e.value ? "rapid limit" : "rapid limit off";
+    case MotionSignal::RapidLimit: return "rapid limit " + std::to_string(e.value) + " mm/min";
     case MotionSignal::FeedHold: return e.value ? "hold" : "release";
     case MotionSignal::AxisEnable: return std::string(1, core::letter(e.axis)) + (e.value ? " on" : " off");
     case MotionSignal::StopPulse: return e.value ? "stop pulse" : "";
@@ -150,6 +161,10 @@ void apply(const ChannelStimulusEvent& e, MotionSignals& s) {
   switch (e.signal) {
     case MotionSignal::FeedOverride: s.feed_override_permille = e.value; break;
     case MotionSignal::FeedOverrideMultiplier: s.feed_override_multiplier_permille = e.value; break;
+    case MotionSignal::FeedLimitRequest: s.feed_limit_request = on; break;
+    case MotionSignal::FeedLimit: s.feed_limit_mm_min = e.value; break;
+    case MotionSignal::RapidLimitRequest: s.rapid_limit_request = on; break;
+    case MotionSignal::RapidLimit: s.rapid_limit_mm_min = e.value; break;
     case MotionSignal::FeedHold: s.feed_hold = on; break;
     case MotionSignal::AxisEnable: s.axis_enable[e.axis] = on; break;
     case MotionSignal::StopPulse: s.stop_pulse = on; break;

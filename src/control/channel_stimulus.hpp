@@ -4,6 +4,9 @@
 //   # time  signal                       value
 //   2.0     feed_override_permille       500     %F in per mille (0..65535; 1000 = programmed feed)
 //   2.0     feed_override_multiplier_permille 1000
+//   3.0     feed_limit_mm_min            1200    P-8 cap on feed moves' path speed (0..65535 mm/min) ...
+//   3.0     feed_limit_request           1       ... in force while the request is 1 (rapids:
+//                                                rapid_limit_mm_min, rapid_limit_request)
 //   3.5     feed_hold                    1       brake to rest on the path; 0 resumes
 //   4.0     feed_hold                    0
 //   5.0     axis_enable[Y]               0       P-2, per axis letter of the machine
@@ -30,6 +33,10 @@ namespace softmc::control {
 enum class MotionSignal : std::uint8_t {
   FeedOverride,
   FeedOverrideMultiplier,
+  FeedLimitRequest,
+  FeedLimit,
+  RapidLimitRequest,
+  RapidLimit,
   FeedHold,
   AxisEnable,
   StopPulse,

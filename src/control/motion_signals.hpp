@@ -14,6 +14,12 @@ struct MotionSignals {
   // up to 100 %; no axis ever exceeds its own speed limit, and the planner's max_feed_override caps it.
   std::uint16_t feed_override_permille = 1000;
   std::uint16_t feed_override_multiplier_permille = 1000;
+  // P-8 feed limits: with the request bit set, the path speed of feed moves (rapids) is capped at
+  // the limit, in mm/min, whatever the override and M49 (a limit of 0 caps nothing).
+  bool feed_limit_request = false;
+  std::uint16_t feed_limit_mm_min = 0;
+  bool rapid_limit_request = false;
+  std::uint16_t rapid_limit_mm_min = 0;
   // Feed hold: brake to rest on the path with the normal ramp; 0 resumes from there.
   bool feed_hold = false;
   // P-2: per axis; any axis of the channel at 0 brakes the path to rest with the normal ramp, all
@@ -29,6 +35,9 @@ struct MotionSignals {
   double feed_override() const {
     return feed_override_permille / 1000.0 * (feed_override_multiplier_permille / 1000.0);
   }
+  // The caps in mm/s; 0: none.
+  double feed_limit_mm_s() const { return feed_limit_request ? feed_limit_mm_min / 60.0 : 0.0; }
+  double rapid_limit_mm_s() const { return rapid_limit_request ? rapid_limit_mm_min / 60.0 : 0.0; }
 
  private:
   static constexpr std::array<bool, core::kMaxAxes> all_enabled() {

@@ -203,7 +203,8 @@ TEST(RunSignals, CliRunsWithAStimulusAndRefusesABadOne) {
 }
 
 // Seeded property test: random programs of lines, zigzags and arcs under random signal writes
-// (override 0 … 250 %, holds, enable drops, sometimes a stop), on the jerk-limited table and with
+// (override 0 … 250 %, feed and rapid limits, holds, enable drops, sometimes a stop), on the
+// jerk-limited table and with
 // trapezoids: every axis within its limits, the path within the tolerance, and the run ends either
 // stopped at rest or on the program's last point.
 TEST(RunSignals, RandomSignalsOnRandomPathsKeepEveryLimit) {
@@ -241,7 +242,9 @@ TEST(RunSignals, RandomSignalsOnRandomPathsKeepEveryLimit) {
       bool stop = false;
       for (int k = 0; k < 8; ++k) {
         t += uni(0.0, 0.6);
-        switch (rng() % 8) {
+        switch (rng() % 10) {
+          case 8: stim += fmt::format("{0:.3f} feed_limit_mm_min {1}\n{0:.3f} feed_limit_request {2}\n", t, 60 + rng() % 6000, rng() % 2); break;
+          case 9: stim += fmt::format("{0:.3f} rapid_limit_mm_min {1}\n{0:.3f} rapid_limit_request {2}\n", t, 60 + rng() % 12000, rng() % 2); break;
           case 0: case 1: stim += fmt::format("{:.3f} feed_override_permille {}\n", t, rng() % 2501); break;
           case 2: stim += fmt::format("{:.3f} feed_override_multiplier_permille {}\n", t, 500 + rng() % 1000); break;
           case 3: case 4: stim += fmt::format("{:.3f} feed_hold {}\n", t, rng() % 2); break;
@@ -257,7 +260,7 @@ TEST(RunSignals, RandomSignalsOnRandomPathsKeepEveryLimit) {
       t += 0.1;
       stim += fmt::format("{0:.3f} feed_override_permille 1000\n{0:.3f} feed_override_multiplier_permille 1000\n"
                           "{0:.3f} feed_hold 0\n{0:.3f} axis_enable[X] 1\n{0:.3f} axis_enable[Y] 1\n"
-                          "{0:.3f} axis_enable[Z] 1\n",
+                          "{0:.3f} axis_enable[Z] 1\n{0:.3f} feed_limit_request 0\n{0:.3f} rapid_limit_request 0\n",
                           t);
       SCOPED_TRACE(fmt::format("jerk {} seed {}\n{}{}", jerk, seed, text, stim));
       auto p = program::iso::parse(text, "rnd.ngc");

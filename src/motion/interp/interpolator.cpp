@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "motion/interp/jerk_guard.hpp"
 
@@ -10,7 +11,14 @@ namespace softmc::motion {
 
 // rt-safe
 void Interpolator::set_feed_override(double factor) {
-  override_ = std::clamp(std::isfinite(factor) ? factor : 0.0, 0.0, config_.max_feed_override);
+  rule_.feed_override = std::clamp(std::isfinite(factor) ? factor : 0.0, 0.0, config_.max_feed_override);
+}
+
+// rt-safe
+void Interpolator::set_speed_limits(double feed_limit_mm_s, double rapid_limit_mm_s) {
+  const auto cap = [](double v) { return v > 0 ? v : std::numeric_limits<double>::infinity(); };  // NaN too
+  rule_.feed_limit_mm_s = cap(feed_limit_mm_s);
+  rule_.rapid_limit_mm_s = cap(rapid_limit_mm_s);
 }
 
 // rt-safe
@@ -20,7 +28,7 @@ void Interpolator::request_stop(StopKind kind) {
 }
 
 // rt-safe. Path speed the feed and override ask for on `b`, under its hard cap.
-double Interpolator::soft_speed(const Block& b) const { return motion::soft_speed(b, override_); }
+double Interpolator::soft_speed(const Block& b) const { return motion::soft_speed(b, rule_); }
 
 // rt-safe
 Interpolator::Inputs Interpolator::inputs(const Block& b) const {

@@ -85,6 +85,9 @@ class Interpolator {
   // rt-safe. P-8: feed override factor (1 = programmed feed), acting from the next step with the
   // ramps kept; rapids follow it up to 1. No axis ever exceeds its own speed limit.
   void set_feed_override(double factor);
+  // rt-safe. P-8 caps on the path speed of feed moves and of rapids (mm/s; ∞, 0 or less: none),
+  // acting like an override: from the next step, with the ramps kept.
+  void set_speed_limits(double feed_limit_mm_s, double rapid_limit_mm_s);
   // rt-safe. Feed hold: brake to rest on the path; release resumes from there.
   void set_feed_hold(bool hold) { hold_ = hold; }
   // rt-safe. P-2: motion enable of the path's axes; dropping it brakes to rest on the path with the
@@ -106,7 +109,8 @@ class Interpolator {
     stopped_ = false;
   }
   bool stopping() const { return stop_ != StopKind::None; }
-  double feed_override() const { return override_; }
+  double feed_override() const { return rule_.feed_override; }
+  const SpeedRule& speed_rule() const { return rule_; }
   // Jerk mode: cycles run, and candidate steps whose verdict needed the simulation of π (the rest
   // were settled by the certificate or refused by the check of the step itself); for benchmarks.
   std::uint64_t jerk_cycles() const { return jerk_cycles_; }
@@ -152,7 +156,7 @@ class Interpolator {
   std::uint64_t jerk_cycles_ = 0, guard_simulations_ = 0, guard_verifies_ = 0;
   std::uint32_t rest_cycles_ = 0;  // jerk mode: cycles in a row that ended at rest without moving
   Inputs in_;
-  double override_ = 1;
+  SpeedRule rule_;  // override and P-8 speed limits
   bool hold_ = false, enable_ = true, stopped_ = false;
   StopKind stop_ = StopKind::None;
 };

@@ -69,7 +69,7 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   // fallback certified when the present state was accepted is always safe from here (its rest is
   // what was checked), so one cycle of it is the last resort.
   scratch_.groups = config_.guard_index;
-  const JerkGuard guard(ring, n, s_, v_, dt, scale, h, override_, scratch_);
+  const JerkGuard guard(ring, n, s_, v_, dt, scale, h, rule_, scratch_);
   GuardMode mode;
   mode.closed_form = config_.guard_closed_form;
   mode.certify = config_.guard_certificate;

@@ -195,9 +195,9 @@ PathStep jerk_cycle(const ProfileState& x, double j, double dt) {
 }
 
 JerkGuard::JerkGuard(const core::Ring<Block>& ring, std::size_t n, double s_front, double v_now, double dt,
-                     double scale, bool halt, double feed_override, GuardScratch& scratch)
+                     double scale, bool halt, const SpeedRule& rule, GuardScratch& scratch)
     : ring_(ring), n_(n), v_now_(v_now), dt_(dt), scale_(scale), halt_(halt),
-      override_(feed_override), g_(scratch) {
+      rule_(rule), g_(scratch) {
   assert(n >= 1 && n <= ring.size() && n <= g_.cap);
   GuardScratch& g = g_;
   // The index of the last cycle holds while the blocks were only popped (the front moves on in it)
@@ -206,7 +206,7 @@ JerkGuard::JerkGuard(const core::Ring<Block>& ring, std::size_t n, double s_fron
   const std::size_t o = g.origin + static_cast<std::size_t>(popped);
   if (ring.changes() - g.changes != popped || popped > g.size || o > g.built || o > g.cap ||
       g.start[o] > GuardScratch::kRebase_mm || scale != g.scale || halt != g.halt ||
-      feed_override != g.feed_override || dt != g.dt) {
+      !(rule == g.rule) || dt != g.dt) {
     g.origin = g.built = g.nstops = 0;  // begin again from the front
     g.start[0] = 0;
   } else {
@@ -222,7 +222,7 @@ JerkGuard::JerkGuard(const core::Ring<Block>& ring, std::size_t n, double s_fron
   base_ = s_front + g.start[o_];
   g.scale = scale;
   g.halt = halt;
-  g.feed_override = feed_override;
+  g.rule = rule;
   g.dt = dt;
 }
 
@@ -317,7 +317,7 @@ double JerkGuard::soft(std::size_t k) const {
 double JerkGuard::soft_raw(const Block& b) const {
   if (halt_) return kInf;
   // v_split_mm_s: a block without a jerk limit keeps a_mm_s2 only up to there (Block).
-  const double s = std::min(soft_speed(b, override_), b.v_split_mm_s);
+  const double s = std::min(soft_speed(b, rule_), b.v_split_mm_s);
   return s > 0 ? s : kInf;  // override 0: the ramp to the cruise speed 0 stops the path
 }
 

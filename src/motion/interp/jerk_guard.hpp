@@ -27,7 +27,9 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "core/ring.hpp"
@@ -36,10 +38,22 @@
 
 namespace softmc::motion {
 
-// rt-safe. Path speed the feed and override ask for on `b`, under its hard cap (rapids: override ≤ 1).
-inline double soft_speed(const Block& b, double feed_override) {
-  if (b.rapid) return b.v_cap_mm_s * std::min(1.0, feed_override);
-  return std::min(b.v_cap_mm_s, b.feed_mm_s * feed_override);
+// What the path speed is asked to be, besides the blocks' own limits (P-8): the feed override, and
+// the PLC's caps on path speed for feed moves and for rapids (∞: none).
+struct SpeedRule {
+  double feed_override = 1;
+  double feed_limit_mm_s = std::numeric_limits<double>::infinity();
+  double rapid_limit_mm_s = std::numeric_limits<double>::infinity();
+  SpeedRule() = default;
+  SpeedRule(double override_factor) : feed_override(override_factor) {}  // NOLINT: an override alone
+  friend bool operator==(const SpeedRule&, const SpeedRule&) = default;
+};
+
+// rt-safe. Path speed the feed, the override and the limits ask for on `b`, under its hard cap
+// (rapids: override ≤ 1).
+inline double soft_speed(const Block& b, const SpeedRule& r) {
+  if (b.rapid) return std::min(b.v_cap_mm_s * std::min(1.0, r.feed_override), r.rapid_limit_mm_s);
+  return std::min({b.v_cap_mm_s, b.feed_mm_s * r.feed_override, r.feed_limit_mm_s});
 }
 
 // One cycle of path motion: the state it ends in (x.s = distance moved) and bounds within the cycle.
@@ -111,7 +125,8 @@ struct GuardScratch {
   // block at `origin`.
   std::size_t origin = 0, built = 0, nstops = 0, size = 0;
   std::uint64_t changes = ~std::uint64_t{0}, pops = 0;
-  double scale = 0, feed_override = 0, dt = 0;
+  double scale = 0, dt = 0;
+  SpeedRule rule{0.0};
   bool halt = false;
 };
 
@@ -131,7 +146,7 @@ class JerkGuard {
   // cap is relaxed to it: an override that dropped cannot be obeyed instantly); `scale` scales A, J.
   // `scratch` holds at least n + 1 blocks.
   JerkGuard(const core::Ring<Block>& ring, std::size_t n, double s_front, double v_now, double dt, double scale,
-            bool halt, double feed_override, GuardScratch& scratch);
+            bool halt, const SpeedRule& rule, GuardScratch& scratch);
 
   // rt-safe. Checks the step from now, then (mode.certify) the certificate from where it ends, and
   // where that cannot decide, π, cycle by cycle until rest (mode.closed_form: until the rest of π is
@@ -204,7 +219,7 @@ class JerkGuard {
   std::size_t n_;
   double v_now_, dt_, scale_;
   bool halt_;
-  double override_;
+  SpeedRule rule_;
   GuardScratch& g_;
   std::size_t o_ = 0;  // the front block's position in the index
   double base_ = 0;    // distance from the index's origin to now: start(k) = g_.start[o_ + k] − base_

@@ -52,7 +52,8 @@ TEST(ChannelStimulus, EverySignalIsReadWithItsValue) {
 TEST(ChannelStimulus, BadLinesAreReportedWithFileLineAndColumnAndNothingIsKept) {
   EXPECT_EQ(errors("1 feed_holt 1\n"),
             std::vector<std::string>{"run.stim:1:3: error: unknown signal 'feed_holt' (feed_override_permille, "
-                                     "feed_override_multiplier_permille, feed_hold, axis_enable[L], stop_pulse, "
+                                     "feed_override_multiplier_permille, feed_limit_request, feed_limit_mm_min, "
+                                     "rapid_limit_request, rapid_limit_mm_min, feed_hold, axis_enable[L], stop_pulse, "
                                      "stop_request, emergency_stop_request)"});
   EXPECT_EQ(errors("0 feed_hold 0\n1 axis_enable[Z] 0\n"),
             std::vector<std::string>{"run.stim:2:3: error: expected axis_enable[L] with L one of the machine's axes (X, Y), got 'axis_enable[Z]'"});
@@ -66,6 +67,8 @@ TEST(ChannelStimulus, BadLinesAreReportedWithFileLineAndColumnAndNothingIsKept) 
   EXPECT_EQ(errors("1 feed_override_permille 65536\n"),
             std::vector<std::string>{"run.stim:1:26: error: expected a whole number of per mille 0..65535, got '65536'"});
   EXPECT_EQ(errors("1 feed_override_permille 50.5\n").size(), 1u);
+  EXPECT_EQ(errors("1 rapid_limit_mm_min -3\n"),
+            std::vector<std::string>{"run.stim:1:22: error: expected a whole number of mm/min 0..65535, got '-3'"});
   EXPECT_EQ(errors("2 feed_hold 1\n1 feed_hold 0\n"),
             std::vector<std::string>{"run.stim:2:1: error: time goes backwards: 1 s after 2.000000 s"});
   EXPECT_EQ(errors("1 feed_hold\n"), std::vector<std::string>{"run.stim:1:12: error: expected a value after the signal"});
@@ -101,4 +104,21 @@ TEST(ChannelStimulus, P8_OverrideIsPerMilleTimesTheMultiplier) {
   s.feed_override_permille = 500;
   s.feed_override_multiplier_permille = 800;
   EXPECT_DOUBLE_EQ(s.feed_override(), 0.4);
+}
+
+TEST(ChannelStimulus, P8_FeedAndRapidLimitsAreReadInMillimetresPerMinute) {
+  const auto r = control::parse_channel_stimulus(
+      "1 feed_limit_mm_min 1200\n1 feed_limit_request 1\n2 rapid_limit_mm_min 3000\n2 rapid_limit_request 1\n",
+      "run.stim", kXY);
+  ASSERT_TRUE(r.stimulus);
+  control::MotionSignals s;
+  EXPECT_EQ(s.feed_limit_mm_s(), 0.0);  // none by default
+  control::ChannelStimulusPlayer p(*r.stimulus);
+  p.apply(1.0, s);
+  EXPECT_DOUBLE_EQ(s.feed_limit_mm_s(), 20.0);
+  EXPECT_EQ(s.rapid_limit_mm_s(), 0.0);
+  p.apply(2.0, s);
+  EXPECT_DOUBLE_EQ(s.rapid_limit_mm_s(), 50.0);
+  s.feed_limit_request = false;
+  EXPECT_EQ(s.feed_limit_mm_s(), 0.0);
 }

@@ -460,3 +460,42 @@ TEST(Channel, P7_StopConfirmedOnceStoppedUntilTheNextProgram) {
   r.ch.load(p);
   EXPECT_FALSE(r.ch.stop_confirmed());
 }
+
+// P-8 feed limits: with its request bit the PLC caps the path speed of feed moves (and of rapids
+// with the other), whatever the override and M49; the caps act on the moving path like an override.
+TEST(Channel, P8_FeedAndRapidLimitsCapThePathSpeed) {
+  auto p = prog({program::Rapid{xy(150, 0)}, program::Linear{xy(0, 0), 50}, program::MFunction{49},
+                 program::Linear{xy(150, 0), 50}, program::ProgramEnd{}});
+  Rig r;
+  r.sig.feed_override_permille = 2000;  // 200 %: 100 mm/s asked for on the feed moves
+  r.sig.feed_limit_mm_min = 1200;       // 20 mm/s
+  r.sig.feed_limit_request = true;
+  r.sig.rapid_limit_mm_min = 3000;      // 50 mm/s
+  r.sig.rapid_limit_request = true;
+  r.ch.load(p);
+  ASSERT_TRUE(r.ch.start({}));
+  double top[3] = {0, 0, 0};
+  while (r.ch.state() == control::ChannelState::Running && r.cycles < 100000) {
+    r.cycle();
+    const auto& sp = r.interp.setpoint();
+    const int k = sp.tag == 0 ? 0 : sp.tag == 1 ? 1 : 2;
+    top[k] = std::max(top[k], sp.path_v);
+  }
+  EXPECT_EQ(r.ch.state(), control::ChannelState::Finished);
+  EXPECT_NEAR(top[0], 50, 1e-9);  // the rapid (100 mm/s axes) at its limit
+  EXPECT_NEAR(top[1], 20, 1e-9);  // the feed move at its limit, not at 200 %
+  EXPECT_NEAR(top[2], 20, 1e-9);  // M49: the programmed 50 mm/s, still capped
+  // Dropped while moving: the path speeds up within its ramp.
+  auto q = prog({program::Linear{xy(150, 0), 50}, program::ProgramEnd{}});
+  Rig s;
+  s.sig.feed_limit_mm_min = 600;
+  s.sig.feed_limit_request = true;
+  s.ch.load(q);
+  s.ch.start({});
+  for (int k = 0; k < 500; ++k) s.cycle();
+  EXPECT_NEAR(s.interp.setpoint().path_v, 10, 1e-9);
+  s.sig.feed_limit_request = false;
+  s.cycle();
+  EXPECT_GT(s.interp.setpoint().path_v, 10);
+  EXPECT_LE(s.interp.setpoint().path_v, 10 + 1000 * 0.001 + 1e-9);
+}
