@@ -53,15 +53,7 @@ ChannelStimulusParseResult parse_channel_stimulus(std::string_view text, const s
   };
   double last_t = 0;
   script::for_each_line(text, [&](std::uint32_t line_no, const std::vector<Field>& f) {
-    if (f.size() < 3) {
-      const auto col = static_cast<std::uint32_t>(f.back().col + f.back().text.size());
-      error(line_no, col, f.size() == 1 ? "expected a signal name after the time" : "expected a value after the signal");
-      return;
-    }
-    if (f.size() > 3) {
-      error(line_no, f[3].col, "unexpected text after the value: '" + std::string(f[3].text) + "'");
-      return;
-    }
+    if (auto e = script::three_fields(f, "a signal name")) return error(line_no, e->first, std::move(e->second));
     ChannelStimulusEvent ev;
     ev.source_line = line_no;
     if (auto err = script::read_time(f[0], last_t, ev.t_s)) return error(line_no, f[0].col, std::move(*err));
@@ -124,13 +116,9 @@ ChannelStimulusParseResult parse_channel_stimulus(std::string_view text, const s
 }
 
 ChannelStimulusParseResult load_channel_stimulus(const std::string& path, core::AxisMask axes) {
-  const auto text = script::read_file(path);
-  if (!text) {
-    ChannelStimulusParseResult res;
-    res.diagnostics.push_back({path, 0, 0, core::Severity::Error, "cannot read the stimulus file"});
-    return res;
-  }
-  return parse_channel_stimulus(*text, path, axes);
+  return script::load<ChannelStimulusParseResult>(path, "stimulus file", [axes](std::string_view text, const std::string& p) {
+    return parse_channel_stimulus(text, p, axes);
+  });
 }
 
 std::string short_label(const ChannelStimulusEvent& e) {

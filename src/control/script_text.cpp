@@ -53,4 +53,15 @@ std::optional<std::string> read_file(const std::string& path) {
   return ss.str();
 }
 
+std::optional<std::pair<std::uint32_t, std::string>> three_fields(const std::vector<Field>& f,
+                                                                   std::string_view signal_words) {
+  if (f.size() < 3) {
+    const auto col = static_cast<std::uint32_t>(f.back().col + f.back().text.size());
+    return std::pair{col, f.size() == 1 ? "expected " + std::string(signal_words) + " after the time"
+                                        : std::string("expected a value after the signal")};
+  }
+  if (f.size() > 3) return std::pair{f[3].col, "unexpected text after the value: '" + std::string(f[3].text) + "'"};
+  return std::nullopt;
+}
+
 }  // namespace softmc::control::script

@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "core/diagnostic.hpp"
@@ -47,5 +48,23 @@ std::optional<std::string> read_time(const Field& f, double& last_t, double& t);
 
 // The whole file as text, or nothing (the caller reports "cannot read").
 std::optional<std::string> read_file(const std::string& path);
+
+// A `time signal value` line with other than three fields: the column and message of its error
+// (`signal_words` says what the second field should be: "a signal name"); nothing when it has three.
+std::optional<std::pair<std::uint32_t, std::string>> three_fields(const std::vector<Field>& f,
+                                                                   std::string_view signal_words);
+
+// Reads `path` and parses it with parse(text, path); an unreadable file is one diagnostic,
+// "cannot read the <what>".
+template <class Result, class Parse>
+Result load(const std::string& path, std::string_view what, Parse&& parse) {
+  const auto text = read_file(path);
+  if (!text) {
+    Result res;
+    res.diagnostics.push_back({path, 0, 0, core::Severity::Error, "cannot read the " + std::string(what)});
+    return res;
+  }
+  return parse(*text, path);
+}
 
 }  // namespace softmc::control::script

@@ -123,6 +123,7 @@ int main(int argc, char** argv) {
     mutate(s, corpus, rng, max_len);
     LLVMFuzzerTestOneInput(reinterpret_cast<const std::uint8_t*>(s.data()), s.size());
   }
-  std::printf("fuzz_iso_replay: %zu corpus inputs and %ld mutations (seed %llu): no crash\n", corpus.size(), runs, seed);
+  std::printf("%s: %zu corpus inputs and %ld mutations (seed %llu): no crash\n", fs::path(argv[0]).filename().c_str(),
+              corpus.size(), runs, seed);
   return 0;
 }

@@ -71,13 +71,7 @@ PlcScriptParseResult parse_plc_script(std::string_view text, const std::string& 
 }
 
 PlcScriptParseResult load_plc_script(const std::string& path) {
-  const auto text = script::read_file(path);
-  if (!text) {
-    PlcScriptParseResult res;
-    res.diagnostics.push_back({path, 0, 0, core::Severity::Error, "cannot read the PLC orders file"});
-    return res;
-  }
-  return parse_plc_script(*text, path);
+  return script::load<PlcScriptParseResult>(path, "PLC orders file", parse_plc_script);
 }
 
 // rt-safe

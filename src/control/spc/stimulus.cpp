@@ -23,16 +23,7 @@ StimulusParseResult parse_stimulus(std::string_view text, const std::string& fil
 
   double last_t = 0;
   script::for_each_line(text, [&](std::uint32_t line_no, const std::vector<Field>& f) {
-    if (f.size() < 3) {
-      const auto col = static_cast<std::uint32_t>(f.back().col + f.back().text.size());
-      error(line_no, col, f.size() == 1 ? "expected a signal name or input address after the time"
-                                        : "expected a value after the signal");
-      return;
-    }
-    if (f.size() > 3) {
-      error(line_no, f[3].col, "unexpected text after the value: '" + std::string(f[3].text) + "'");
-      return;
-    }
+    if (auto e = script::three_fields(f, "a signal name or input address")) return error(line_no, e->first, std::move(e->second));
 
     StimulusEvent ev;
     ev.source_line = line_no;
@@ -79,13 +70,7 @@ StimulusParseResult parse_stimulus(std::string_view text, const std::string& fil
 }
 
 StimulusParseResult load_stimulus(const std::string& path) {
-  const auto text = script::read_file(path);
-  if (!text) {
-    StimulusParseResult res;
-    res.diagnostics.push_back({path, 0, 0, core::Severity::Error, "cannot read the stimulus file"});
-    return res;
-  }
-  return parse_stimulus(*text, path);
+  return script::load<StimulusParseResult>(path, "stimulus file", parse_stimulus);
 }
 
 // rt-safe
