@@ -116,12 +116,13 @@ int cmd_run(const std::string& path, const MachineArgs& margs, const std::string
     // The stimulus's writes up to the run's end, marked on the speed panel (one label per time).
     std::vector<report::PlotEvent> events;
     const double end_s = res.trace.rows.empty() ? 0.0 : res.trace.rows.back().t_s;
-    for (const auto& e : stimulus ? stimulus->events : std::vector<control::ChannelStimulusEvent>{}) {
-      const auto label = control::short_label(e);
-      if (label.empty() || e.t_s > end_s) continue;
-      if (!events.empty() && events.back().t_s == e.t_s) events.back().label += ", " + label;
-      else events.push_back({e.t_s, label});
-    }
+    if (stimulus)
+      for (const auto& e : stimulus->events) {
+        const auto label = control::short_label(e);
+        if (label.empty() || e.t_s > end_s) continue;
+        if (!events.empty() && events.back().t_s == e.t_s) events.back().label += ", " + label;
+        else events.push_back({e.t_s, label});
+      }
     report::write_plot(plot, *prog, cfg, res.trace, events);
   }
   if (json) {

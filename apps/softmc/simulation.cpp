@@ -99,7 +99,6 @@ std::string Simulation::fault_text() const {
   return fmt::format("{}: {}", location(prog_, channel_.fault_instruction()), channel_.fault_message());
 }
 
-
 bool Simulation::held_for_good() const {
   if ((player_ && !player_->finished()) || channel_.state() != control::ChannelState::Running) return false;
   const auto& sp = interp_.setpoint();

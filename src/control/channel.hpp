@@ -56,7 +56,8 @@ class Channel {
   const char* fault_message() const { return fault_; }
   motion::PlanResult plan_error() const { return plan_error_; }
   std::uint32_t fault_instruction() const { return fault_pc_; }
-  // P-7 stop_confirmed: a running program was actually stopped; stays true until the next start.
+  // P-7 stop_confirmed: a running program was actually stopped; stays true until a program is
+  // loaded again (a stopped program is not started again).
   bool stop_confirmed() const { return state_ == ChannelState::Stopped; }
   motion::StopKind stop_kind() const { return stop_kind_; }  // the strongest stop taken (None: none)
   // The instruction the program stopped at: the block the path came to rest on, or with nothing in
@@ -67,6 +68,8 @@ class Channel {
  private:
   void fail(const char* message, motion::PlanResult r);
   void stop(motion::StopKind kind);
+  // rt-safe: the override the interpolator runs with: the PLC's, or 1 under M49.
+  void set_override() { interp_.set_feed_override(override_enabled_ ? feed_override_ : 1.0); }
   // rt-safe: pushes the precomputed segments of the curve at pc_; false while the queue is full.
   bool push_curve(int& budget);
   // rt-safe: this cycle's planning budget is spent (kMaxCurvesPerCycle curves built since it began).
@@ -91,7 +94,6 @@ class Channel {
   bool stop_pulse_was_ = false;  // stop_pulse in the last apply(): a stop on its rising edge only
   double feed_override_ = 1;      // the PLC's override (P-8) from the last apply()
   bool override_enabled_ = true;  // M48 (on) / M49 (off: the programmed feed, whatever the override)
-  void set_override() { interp_.set_feed_override(override_enabled_ ? feed_override_ : 1.0); }
   // Precomputed curve segments: curve_first_[i] .. curve_first_[i + 1] are instruction i's
   // (sized at load, one entry per instruction plus one).
   std::vector<motion::Segment> curve_segments_;

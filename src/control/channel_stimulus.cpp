@@ -14,21 +14,29 @@ namespace {
 struct SignalName {
   const char* name;
   MotionSignal signal;
-  int max;  // largest value a write may carry
+  const char* unit;  // of a word (0..65535); nullptr: a bit (0/1)
 };
 constexpr SignalName kSignals[] = {
-    {"feed_override_permille", MotionSignal::FeedOverride, 65535},
-    {"feed_override_multiplier_permille", MotionSignal::FeedOverrideMultiplier, 65535},
-    {"feed_limit_request", MotionSignal::FeedLimitRequest, 1},
-    {"feed_limit_mm_min", MotionSignal::FeedLimit, 65535},
-    {"rapid_limit_request", MotionSignal::RapidLimitRequest, 1},
-    {"rapid_limit_mm_min", MotionSignal::RapidLimit, 65535},
-    {"feed_hold", MotionSignal::FeedHold, 1},
-    {"axis_enable", MotionSignal::AxisEnable, 1},
-    {"stop_pulse", MotionSignal::StopPulse, 1},
-    {"stop_request", MotionSignal::StopRequest, 1},
-    {"emergency_stop_request", MotionSignal::EmergencyStopRequest, 1},
+    {"feed_override_permille", MotionSignal::FeedOverride, "per mille"},
+    {"feed_override_multiplier_permille", MotionSignal::FeedOverrideMultiplier, "per mille"},
+    {"feed_limit_request", MotionSignal::FeedLimitRequest, nullptr},
+    {"feed_limit_mm_min", MotionSignal::FeedLimit, "mm/min"},
+    {"rapid_limit_request", MotionSignal::RapidLimitRequest, nullptr},
+    {"rapid_limit_mm_min", MotionSignal::RapidLimit, "mm/min"},
+    {"feed_hold", MotionSignal::FeedHold, nullptr},
+    {"axis_enable", MotionSignal::AxisEnable, nullptr},
+    {"stop_pulse", MotionSignal::StopPulse, nullptr},
+    {"stop_request", MotionSignal::StopRequest, nullptr},
+    {"emergency_stop_request", MotionSignal::EmergencyStopRequest, nullptr},
 };
+
+// "feed_override_permille, ..., axis_enable[L], ...": every name, for the unknown-signal message.
+std::string signal_names() {
+  std::string s;
+  for (const auto& n : kSignals)
+    s += std::string(s.empty() ? "" : ", ") + n.name + (n.signal == MotionSignal::AxisEnable ? "[L]" : "");
+  return s;
+}
 
 std::string axis_letters(core::AxisMask axes) {
   std::string s;
@@ -79,10 +87,7 @@ ChannelStimulusParseResult parse_channel_stimulus(std::string_view text, const s
       if (iequal(name, n.name)) sig = &n;
     if (!sig) {
       error(line_no, f[1].col,
-            "unknown signal '" + std::string(f[1].text) +
-                "' (feed_override_permille, feed_override_multiplier_permille, feed_limit_request, "
-                "feed_limit_mm_min, rapid_limit_request, rapid_limit_mm_min, feed_hold, axis_enable[L], "
-                "stop_pulse, stop_request, emergency_stop_request)");
+            "unknown signal '" + std::string(f[1].text) + "' (" + signal_names() + ")");
       return;
     }
     if (sig->signal == MotionSignal::AxisEnable && !axis) {
@@ -98,13 +103,11 @@ ChannelStimulusParseResult parse_channel_stimulus(std::string_view text, const s
     const auto* e = b + f[2].text.size();
     const auto r = std::from_chars(b, e, v);
     const bool acknowledged = sig->signal == MotionSignal::StopRequest || sig->signal == MotionSignal::EmergencyStopRequest;
-    if (r.ec != std::errc{} || r.ptr != e || v < (acknowledged ? 1 : 0) || v > sig->max) {
+    if (r.ec != std::errc{} || r.ptr != e || v < (acknowledged ? 1 : 0) || v > (sig->unit ? 65535 : 1)) {
       error(line_no, f[2].col,
-            std::string(acknowledged ? "expected 1 (the channel clears the request when it takes it)"
-                        : sig->max == 1 ? "expected 0 or 1"
-                        : sig->signal == MotionSignal::FeedLimit || sig->signal == MotionSignal::RapidLimit
-                            ? "expected a whole number of mm/min 0..65535"
-                            : "expected a whole number of per mille 0..65535") +
+            (acknowledged ? std::string("expected 1 (the channel clears the request when it takes it)")
+             : sig->unit  ? "expected a whole number of " + std::string(sig->unit) + " 0..65535"
+                          : std::string("expected 0 or 1")) +
                 ", got '" + std::string(f[2].text) + "'");
       return;
     }

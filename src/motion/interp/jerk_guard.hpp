@@ -27,7 +27,6 @@
 
 #include <algorithm>
 #include <cstddef>
-#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <vector>

@@ -1063,9 +1063,10 @@ void Planner::commit(const Block& b) {
   auto& ring = queue_.ring_;
   ring.push(b);  // room was checked by push()
   Block& nb = ring.back();
-  if (ring.size() == 1) dense_n_ = 0;  // from rest: no block before it shares a cycle with it
+  const bool from_rest = ring.size() == 1;
+  if (from_rest) dense_n_ = 0;  // no block before it shares a cycle with it
   dense_cap(nb);
-  if (ring.size() == 1) {
+  if (from_rest) {
     nb.v2_junction = 0;  // the machine is at rest when the window is empty (its tail ends at rest)
   } else {
     Block& prev = ring.at(ring.size() - 2);

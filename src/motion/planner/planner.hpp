@@ -143,6 +143,7 @@ class Planner {
   void stage(const PathRequest& req);
   PlanResult emit_stage();
   void commit(const Block& b);
+  void dense_cap(Block& b);  // see kDenseBlocks
   void kink(Block& a, Block& b) const;
   // Speed at which a and b's corner may be crossed unblended (0: an exact stop).
   double kink_speed(const Block& a, const Block& b) const;
@@ -177,7 +178,6 @@ class Planner {
   std::array<double, kDenseBlocks> dense_len_{};
   std::uint64_t dense_n_ = 0;
   double dense_sum_mm_ = 0;
-  void dense_cap(Block& b);
   mutable std::uint64_t curves_built_ = 0;
 };
 
