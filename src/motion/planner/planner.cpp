@@ -582,6 +582,17 @@ PlanResult Planner::plan(const PathRequest& req, double merge_dev_mm, std::uint3
   set_limits(b, sl, req.profile == ProfileKind::Trapezoid ? kInf : sl.j_max_mm_s3);
   set_law(b, [&] { return segment_law(req.geom, limits_); });
   b.feed_mm_s = req.rapid ? kInf : req.feed_mm_s;
+  // A spiral (an arc whose end is off its circle) runs at |dp/ds| up to hypot(inplane, linear) > 1
+  // where its radius is largest (Segment: angle and radius advance uniformly with s): its feed along
+  // s is lowered by that, so no point of it runs faster than programmed. A tiny arc may be a strong
+  // spiral (r 0.01 → 0.037 mm within the interpreter's allowance: 1.38 times the feed before).
+  if (!req.rapid && req.geom.kind == SegmentKind::Arc && req.geom.dradius != 0) {
+    const double t = std::hypot(req.geom.arc_bounds().inplane, core::norm(req.geom.linear));
+    if (t > 1) {
+      b.feed_scale = 1 / t;
+      b.feed_mm_s *= b.feed_scale;
+    }
+  }
   advance(b, req.tolerance_mm < 0 ? config_.tolerance_mm : req.tolerance_mm);
   return PlanResult::Ok;
 }

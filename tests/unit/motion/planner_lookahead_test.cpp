@@ -253,3 +253,24 @@ TEST(Lookahead, DenseTinyBlocksNeverOutrunTheCycleBudget) {
     EXPECT_LT(res.cycles, 1300u) << "jerk " << j;
   }
 }
+
+// A G-code arc whose end is off its circle runs as a spiral whose |dp/ds| exceeds 1 where its radius
+// is largest: a tiny one (r 0.01 → 0.037 mm, within LinuxCNC's allowance) ran 1.38 times its feed.
+// Its feed along s is lowered by that, so no setpoint moves faster than programmed, with and without
+// a jerk limit (a fuzzer's case).
+TEST(Lookahead, SpiralArcsNeverRunFasterThanTheirFeed) {
+  for (const double j : {0.0, 50000.0}) {
+    MachineLimits lim = xyz_limits(100, 2000);
+    for (int i = 0; i < 3; ++i) lim.axis[i].j_max_mm_s3 = j;
+    const double feed = 1.0;
+    const auto arc = make_arc(xyz(10, 10), xyz(10.047, 10), 0, 1, 10.01, 10, -1);
+    ASSERT_GT(arc.dradius, 0.02);
+    std::vector<core::Vec> trace;
+    const auto res = run_path(lim, {arc_req(arc, feed, 0)}, 64, {}, {}, 20'000'000, {}, &trace);
+    ASSERT_TRUE(res.finished);
+    double fastest = 0;
+    for (std::size_t k = 1; k < trace.size(); ++k) fastest = std::max(fastest, core::norm(trace[k] - trace[k - 1]) / lim.period_s);
+    EXPECT_LE(fastest, feed * (1 + 1e-6)) << "jerk " << j;
+    EXPECT_GT(fastest, 0.9 * feed) << "jerk " << j;  // and it does run at the feed where |dp/ds| is largest
+  }
+}
