@@ -169,6 +169,18 @@ TEST(RunSignals, P5_AStopInABlendOrASmoothedRunIsOnThePathAndNamesItsLine) {
   EXPECT_NEAR(smooth.res.trace.rows.back().cmd[0], 30, 0.1);
 }
 
+// A hold written while the path still accelerates towards a blend brakes at once with the jerk of
+// the block it is in: before, the ramp planned with the blend's lower jerk share brought |a| down
+// so slowly that the path went on to 13.6 mm/s under F600 (a fuzzer's case).
+TEST(RunSignals, AHoldWhileAcceleratingIntoABlendDoesNotOvershootTheFeed) {
+  const auto cfg = machine::default_machine();
+  const auto r = run("0.04 feed_hold 1\n", cfg, "G21 G90 G17\nG1 Z1.2941 F600\nG1 X0.2885 Y5.1663\nM30\n");
+  EXPECT_NEAR(at(r, 0.04).path_v, 7.3, 0.1);  // still accelerating towards 10 mm/s when the hold comes
+  EXPECT_LE(r.sum.max_path_speed_mm_s, 10 * (1 + 1e-3));
+  expect_within_limits(r, cfg);
+  EXPECT_EQ(r.res.trace.rows.back().path_v, 0);
+}
+
 // A run held at rest with no event left that could release it ends with an error naming why and
 // where, instead of simulating on to the 24 h timeout.
 TEST(RunSignals, HeldWithNoEventLeftEndsWithAnError) {
