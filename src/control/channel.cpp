@@ -45,17 +45,42 @@ void Channel::load(const program::Program& prog) {
   std::vector<std::size_t> run_ins;
   double run_feed = 0, run_tol = 0;
   std::vector<std::vector<motion::Segment>> run_out;
+  std::vector<std::size_t> kept;
+  std::vector<core::Vec> thin_pts;
   const auto close_run = [&] {
     if (run_ins.size() >= 2) {
       motion::PolylineSmoothing cfg;
       cfg.tolerance_mm = pc.smoothing_share * run_tol;
       cfg.max_turn_rad = pc.smoothing_max_turn_rad;
-      motion::smooth_polyline(run_pts, cfg, run_out);
-      for (std::size_t k = 0; k < run_ins.size(); ++k)
-        if (!run_out[k].empty()) {
-          per[run_ins[k]] = std::move(run_out[k]);
-          precomputed_[run_ins[k]] = 1;
+      // Tiny collinear lines become legs of up to kThinLeg_mm (1 µm CAM lines would otherwise be a
+      // piece each, which the planner cannot merge: the window then covers too little to brake in,
+      // 31 mm/s on the built-in table instead of F6000). The
+      // points dropped lie within thin_share·P of the legs, and the spline keeps to the rest of the
+      // smoothing share, so it stays within smoothing_share·P of the program.
+      const double eps = pc.smoothing_thin_share * run_tol;
+      if (eps > 0) motion::thin_polyline(run_pts, eps, kThinLeg_mm, kMaxThinned, kept);
+      if (eps > 0 && kept.size() < run_pts.size()) {
+        thin_pts.clear();
+        for (const std::size_t k : kept) thin_pts.push_back(run_pts[k]);
+        cfg.tolerance_mm -= eps;
+        motion::smooth_polyline(thin_pts, cfg, run_out);
+        // Leg r stands for lines kept[r] … kept[r + 1] − 1: smoothed, the first carries its
+        // segments and the others none (executed with it); kept as a line, all stay as programmed
+        // (collinear lines, which the planner merges).
+        for (std::size_t r = 0; r + 1 < kept.size(); ++r) {
+          if (run_out[r].empty()) continue;
+          per[run_ins[kept[r]]] = std::move(run_out[r]);
+          precomputed_[run_ins[kept[r]]] = 1;
+          for (std::size_t k = kept[r] + 1; k < kept[r + 1]; ++k) precomputed_[run_ins[k]] = kAbsorbed;
         }
+      } else {
+        motion::smooth_polyline(run_pts, cfg, run_out);
+        for (std::size_t k = 0; k < run_ins.size(); ++k)
+          if (!run_out[k].empty()) {
+            per[run_ins[k]] = std::move(run_out[k]);
+            precomputed_[run_ins[k]] = 1;
+          }
+      }
     }
     run_pts.clear();
     run_ins.clear();
@@ -122,6 +147,9 @@ bool Channel::push_curve(int& budget) {
   if (const auto* l = std::get_if<program::Linear>(&op)) feed = l->feed_mm_s;  // a smoothed line
   if (const auto* a = std::get_if<program::Arc>(&op)) feed = a->feed_mm_s;     // an arc in pieces
   const std::uint32_t first = curve_first_[pc_], last = curve_first_[pc_ + 1];
+  // A smoothed leg stands for the thinned lines after it too: its setpoints name them all.
+  std::uint32_t tag_last = pc_;
+  while (tag_last + 1 < precomputed_.size() && precomputed_[tag_last + 1] == kAbsorbed) ++tag_last;
   while (first + curve_next_ < last) {
     if (planner_.queue().full() || budget <= 0 || planning_spent()) return false;
     const auto& seg = curve_segments_[first + curve_next_];
@@ -129,6 +157,7 @@ bool Channel::push_curve(int& budget) {
     req.geom = seg;
     req.feed_mm_s = feed;
     req.tag = pc_;
+    req.tag_last = tag_last;
     req.tolerance_mm = path_tolerance_mm_;
     req.mergeable = false;  // a smoothed run's stubs keep the direction their spline leaves along
     const auto r = planner_.push(req);
@@ -229,6 +258,7 @@ void Channel::update(double dt_s) {
   }
   const auto& ins = prog_->instructions;
   curves_at_cycle_ = planner_.curves_built();
+  blocks_at_cycle_ = planner_.blocks_committed();
   for (int budget = kMaxInstructionsPerCycle; budget > 0 && pc_ < ins.size(); --budget) {
     const program::Op& op = ins[pc_].op;
     if (const auto* pm = std::get_if<program::PathMode>(&op)) {

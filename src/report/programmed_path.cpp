@@ -53,6 +53,8 @@ ProgrammedPath programmed_path(const program::Program& prog) {
     pp.moves_upto[i] = pp.moves.size();
   }
   pp.end = pos;
+  pp.along_mm.resize(pp.moves.size() + 1);
+  for (std::size_t m = 0; m < pp.moves.size(); ++m) pp.along_mm[m + 1] = pp.along_mm[m] + pp.moves[m].segment.length;
   // Each group's box: the union of its moves'.
   for (std::size_t g = 0; g * ProgrammedPath::kMovesPerGroup < pp.moves.size(); ++g) {
     const std::size_t a = g * ProgrammedPath::kMovesPerGroup;
@@ -72,7 +74,14 @@ std::pair<std::size_t, std::size_t> ProgrammedPath::moves_around(std::uint32_t t
   const std::size_t first = *move_of[tag];
   const std::uint32_t upto = std::max(tag, tag_last);
   const std::size_t last = std::max(first, (upto < moves_upto.size() ? moves_upto[upto] : moves.size()) - 1);
-  return {first > 0 ? first - 1 : 0, std::min(last + 1, moves.size() - 1)};
+  std::size_t lo = first > 0 ? first - 1 : 0, hi = std::min(last + 1, moves.size() - 1);
+  const std::size_t lo_most = lo > kReachMoves ? lo - kReachMoves : 0, hi_most = std::min(hi + kReachMoves, moves.size() - 1);
+  // along_mm rises: the first move starting within the reach before, the last one after.
+  lo = static_cast<std::size_t>(std::lower_bound(along_mm.begin() + static_cast<std::ptrdiff_t>(lo_most), along_mm.begin() + static_cast<std::ptrdiff_t>(lo),
+                                                 along_mm[first] - kReach_mm) - along_mm.begin());
+  hi = static_cast<std::size_t>(std::upper_bound(along_mm.begin() + static_cast<std::ptrdiff_t>(hi) + 1, along_mm.begin() + static_cast<std::ptrdiff_t>(hi_most) + 1,
+                                                 along_mm[last + 1] + kReach_mm) - along_mm.begin()) - 1;
+  return {lo, hi};
 }
 
 std::optional<std::size_t> ProgrammedPath::nearest_instruction(const core::Vec& p, std::uint32_t tag,

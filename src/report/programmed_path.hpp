@@ -39,6 +39,13 @@ struct ProgrammedPath {
   std::vector<core::Vec> before;                    // position when instruction i starts
   std::vector<core::Vec> after;                     // position when instruction i has finished
   core::Vec start, end;
+  std::vector<double> along_mm;  // path length from the start to the start of each move (and the end)
+  // A setpoint on a smoothing piece may lie on moves a little before or after the instructions it
+  // is tagged with: the spline's points are low-pass filtered, and a leg over thinned 1 µm lines
+  // (control::Channel) stands for up to 65 of them. The search reaches one move either side, and
+  // further along up to kReach_mm of path (at most kReachMoves moves) each way.
+  static constexpr double kReach_mm = 0.5;
+  static constexpr std::size_t kReachMoves = 256;
   static constexpr std::size_t kMovesPerGroup = 32;
   std::vector<MoveGroup> groups;  // moves [k·kMovesPerGroup, (k+1)·kMovesPerGroup) in groups[k]
 
@@ -60,7 +67,7 @@ struct ProgrammedPath {
   std::optional<std::size_t> nearest_instruction(const core::Vec& p, std::uint32_t tag, std::uint32_t tag_last) const;
 
  private:
-  // The moves of instructions tag..tag_last and one on either side (first, last).
+  // The moves of instructions tag..tag_last, one on either side and the reach (first, last).
   std::pair<std::size_t, std::size_t> moves_around(std::uint32_t tag, std::uint32_t tag_last) const;
   // Least distance from p of moves[range.first..range.second], or any value ≤ enough once one is
   // found; hint_ is then the move it came from.

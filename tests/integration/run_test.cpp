@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "machine/config.hpp"
 #include "program/iso/parser.hpp"
@@ -195,4 +197,47 @@ TEST(Run, SummaryStreamedRowByRowIsTheRecordedOne) {
   EXPECT_EQ(report::to_json(a), report::to_json(s));
   EXPECT_GT(s.cycles, 1000u);
   EXPECT_GT(s.axis[0].max_jerk_mm_s3, 0);
+}
+
+// Issue 4, "colinear tiny segments (CAM output) must flow at full feed", through the Channel: 1 µm
+// lines at F6000 (100 mm/s) along X, and on a diagonal rounded to 4 decimals as CAM prints it. The
+// channel executes up to 1024 instructions a cycle but commits at most 64 blocks (the planner merges
+// the lines 16 to a block); with jerk limits the smoothing thins them into 20 µm legs first (a
+// spline piece per 1 µm line filled the 2 000-block window with 2 mm, too little to brake in).
+// Before: 64 mm/s without jerk limits, 31 mm/s with them.
+TEST(Run, CollinearMicronLinesRunAtTheFeedThroughTheChannel) {
+  for (const bool jerk : {false, true}) {
+    for (const bool diagonal : {false, true}) {
+      auto cfg = machine::default_machine();
+      if (!jerk)
+        for (const char* a : {"x", "y", "z"}) machine::apply_override(cfg, std::string("axes.") + a + ".max_jerk_mm_s3=0");
+      machine::validate(cfg);
+      std::string text = "G21 G90 G64 P0.05\nG1 F6000\n";
+      const double step = diagonal ? 0.0007071 : 0.001;
+      const int n = 20000;
+      for (int k = 1; k <= n; ++k) {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "X%.4f Y%.4f\n", step * k, diagonal ? step * k : 0.0);
+        text += buf;
+      }
+      text += "M2\n";
+      const auto r = run_source(text, "micron.ngc", cfg);
+      const auto& x = cfg.axes[0];
+      const double v = 100, a = x.max_acc_mm_s2, j = x.max_jerk_mm_s3;
+      // The feed- and limit-bound time of the feed part: cruise, plus one ramp up and one down.
+      const double ramp_s = j > 0 ? (v >= a * a / j ? v / a + a / j : 2 * std::sqrt(v / j)) : v / a;
+      const double len = r.sum.feed_mm, ideal_s = len / v + ramp_s;  // the program starts at rest at 0
+      const double t_s = r.sum.cycle_time_s;
+      SCOPED_TRACE(std::string(jerk ? "jerk" : "trapezoid") + (diagonal ? ", diagonal" : ", along X"));
+      EXPECT_NEAR(len, step * n * (diagonal ? std::sqrt(2.0) : 1.0), 1e-3);
+      EXPECT_NEAR(r.sum.max_path_speed_mm_s, v, 1e-6);
+      EXPECT_LE(t_s, 1.05 * ideal_s) << t_s << " s vs " << ideal_s;
+      EXPECT_LE(r.sum.max_path_deviation_mm, 0.05);
+      for (std::size_t i = 0; i < 2; ++i) {
+        EXPECT_LE(r.sum.axis[i].max_acc_mm_s2, cfg.axes[i].max_acc_mm_s2 * (1 + 1e-6));
+        if (jerk) EXPECT_LE(r.sum.axis[i].max_jerk_mm_s3, cfg.axes[i].max_jerk_mm_s3 * (1 + 1e-6));
+      }
+      EXPECT_NEAR(r.res.trace.rows.back().cmd[0], std::round(1e4 * step * n) / 1e4, 1e-12);
+    }
+  }
 }

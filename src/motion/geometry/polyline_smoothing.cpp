@@ -169,4 +169,37 @@ void smooth_polyline(std::span<const Vec> pts, const PolylineSmoothing& cfg, std
   }
 }
 
+void thin_polyline(std::span<const Vec> pts, double eps_mm, double max_leg_mm, std::size_t max_dropped,
+                   std::vector<std::size_t>& kept) {
+  kept.clear();
+  if (pts.empty()) return;
+  kept.push_back(0);
+  const std::size_t last = pts.size() - 1;
+  std::size_t a = 0;
+  while (a < last) {
+    // Extend the chord a → b while every point between lies within eps of it and they advance along it.
+    std::size_t b = a + 1;
+    while (b < last && b - a <= max_dropped) {
+      const std::size_t e = b + 1;
+      const Vec d = pts[e] - pts[a];
+      const double len = core::norm(d);
+      if (!(len > 0) || len > max_leg_mm) break;
+      const Vec c = d * (1 / len);
+      double prev = 0;
+      bool ok = true;
+      for (std::size_t k = a + 1; k < e && ok; ++k) {
+        const Vec o = pts[k] - pts[a];
+        const double along = core::dot(o, c);
+        const double off2 = core::dot(o, o) - along * along;
+        ok = along > prev && off2 <= eps_mm * eps_mm;
+        prev = along;
+      }
+      if (!ok || !(len > prev)) break;
+      b = e;
+    }
+    kept.push_back(b);
+    a = b;
+  }
+}
+
 }  // namespace softmc::motion

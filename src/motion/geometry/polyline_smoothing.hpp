@@ -42,4 +42,15 @@ struct PolylineSmoothing {
 // (allocates). Consecutive segments join exactly (the end of one is the start of the next).
 void smooth_polyline(std::span<const Vec> pts, const PolylineSmoothing& cfg, std::vector<std::vector<Segment>>& lines);
 
+// Tiny collinear lines of a polyline, for smoothing: `kept` receives the indices of the points that
+// stay (always the first and the last), in order. A point is dropped where it lies within eps_mm of
+// the chord between the kept points around it, the points from one kept point to the next advance
+// along that chord (no reversal is dropped), and that chord is at most max_leg_mm long; at most
+// max_dropped in a row (bounds the work: O(n · max_dropped)). 1 µm CAM lines along a line become
+// legs of max_leg_mm for the spline, instead of thousands of pieces the planner cannot merge; lines
+// longer than max_leg_mm are never touched (a long leg next to short ones would bend the spline
+// where they meet). Configuration time (allocates).
+void thin_polyline(std::span<const Vec> pts, double eps_mm, double max_leg_mm, std::size_t max_dropped,
+                   std::vector<std::size_t>& kept);
+
 }  // namespace softmc::motion

@@ -13,6 +13,8 @@ struct PathRequest {
   double feed_mm_s = 0;  // requested path speed; ignored for rapids
   bool rapid = false;
   std::uint32_t tag = 0;        // the instruction index it came from, carried to the setpoints
+  std::uint32_t tag_last = 0;   // the last instruction it stands for, when it replaces several
+                                // (a smoothed leg over thinned lines); ≤ tag: tag alone
   double tolerance_mm = -1;     // blend tolerance P at the corner this move starts with:
                                 // < 0 = the configured default (G64 without P), 0 = exact stop (G61)
   // Speed profile of this move: Scurve (default) keeps the axes' jerk limits; Trapezoid ignores them

@@ -486,7 +486,7 @@ PlanResult Planner::push(const PathRequest& req) {
 void Planner::stage(const PathRequest& req) {
   MergeStage& m = queue_.stage_;
   m.req = req;
-  m.tag_last = req.tag;
+  m.tag_last = std::max(req.tag, req.tag_last);
   m.q_mm = kInf;
   m.dev_mm = 0;
   m.n = 0;
@@ -536,7 +536,7 @@ bool Planner::merge(const PathRequest& req) {
   m.req.geom.end = e;
   m.req.geom.length = len;
   m.req.geom.dir = c;
-  m.tag_last = req.tag;
+  m.tag_last = std::max(req.tag, req.tag_last);
   return true;
 }
 
@@ -576,7 +576,7 @@ PlanResult Planner::plan(const PathRequest& req, double merge_dev_mm, std::uint3
   b.seg = req.geom;
   b.rapid = req.rapid;
   b.tag = req.tag;
-  b.tag_last = std::max(req.tag, tag_last);
+  b.tag_last = std::max({req.tag, req.tag_last, tag_last});
   b.length = req.geom.length;
   b.merge_q_mm = merge_dev_mm;
   set_limits(b, sl, req.profile == ProfileKind::Trapezoid ? kInf : sl.j_max_mm_s3);
@@ -1073,6 +1073,7 @@ void Planner::dense_cap(Block& b) {
 void Planner::commit(const Block& b) {
   auto& ring = queue_.ring_;
   ring.push(b);  // room was checked by push()
+  ++blocks_committed_;
   Block& nb = ring.back();
   const bool from_rest = ring.size() == 1;
   if (from_rest) dense_n_ = 0;  // no block before it shares a cycle with it

@@ -58,6 +58,10 @@ struct PlannerConfig {
   // it at load); 0 = off.
   double smoothing_max_turn_rad = 20 * 3.14159265358979323846 / 180;
   double smoothing_share = 0.9;
+  // Before smoothing, points within smoothing_thin_share·P of the chord of their neighbours along a
+  // collinear stretch are dropped (motion::thin_polyline); the spline then keeps within
+  // (smoothing_share − smoothing_thin_share)·P of the remaining legs. 0 = never.
+  double smoothing_thin_share = 0.02;
   // Jerk mode: a corner between two lines turning at least this is blended by a curvature-continuous
   // quintic (make_corner_blend) instead of a circular arc, whose curvature step at each end caps
   // the corner at the speed one cycle's share of jerk allows (docs/planner.md, "Corner blends");
@@ -136,6 +140,9 @@ class Planner {
   // Curves built by push so far (quintic blends, fillets): the costly part of planning, which the
   // Channel bounds per cycle.
   std::uint64_t curves_built() const { return curves_built_; }
+  // Blocks committed to the window so far: each costs a blend or junction, its limits and the
+  // backward pass's step; a line merged into the one held back commits none (the Channel bounds both).
+  std::uint64_t blocks_committed() const { return blocks_committed_; }
 
  private:
   PlanResult plan(const PathRequest& req, double merge_dev_mm = 0, std::uint32_t tag_last = 0);
@@ -179,6 +186,7 @@ class Planner {
   std::uint64_t dense_n_ = 0;
   double dense_sum_mm_ = 0;
   mutable std::uint64_t curves_built_ = 0;
+  std::uint64_t blocks_committed_ = 0;
 };
 
 }  // namespace softmc::motion

@@ -98,6 +98,50 @@ TEST(Channel, LongProgramsStreamThroughASmallQueue) {
   EXPECT_EQ(r.interp.setpoint().pos, xy(100, 0));
 }
 
+// A cycle executes at most kMaxInstructionsPerCycle instructions and stops pushing once the planner
+// has committed kMaxBlocksPerCycle blocks (a push commits at most a line and its corner's blend, so
+// the check before each push keeps a cycle within 2 of the bound): 1 µm collinear lines merge 16 to
+// a block and a cycle runs 1024 of them; a zigzag of 0.05 mm lines at right angles merges none and
+// a cycle runs about 64.
+TEST(Channel, InstructionsAndBlocksPerCycleAreBounded) {
+  for (const bool zigzag : {false, true}) {
+    std::vector<program::Op> ops;
+    const int n = zigzag ? 2000 : 20000;
+    const double dx = zigzag ? 0.05 : 0.001;
+    for (int k = 1; k <= n; ++k) ops.push_back(program::Linear{xy(dx * k, zigzag ? 0.05 * (k % 2) : 0.0), 50});
+    ops.push_back(program::ProgramEnd{});
+    auto p = prog(ops);
+    motion::Planner planner{limits(), 4096};
+    motion::Interpolator interp{planner.queue(), core::Vec{}};
+    control::Channel ch{planner, interp};
+    ch.load(p);
+    ASSERT_TRUE(ch.start({}));
+    std::uint64_t most_blocks = 0;
+    std::uint32_t most_ins = 0;
+    int cycles = 0;
+    while (ch.state() == control::ChannelState::Running && cycles < 200000) {
+      const auto blocks = planner.blocks_committed();
+      const auto pc = ch.pc();
+      ch.update(0.001);
+      most_blocks = std::max(most_blocks, planner.blocks_committed() - blocks);
+      most_ins = std::max(most_ins, ch.pc() - pc);
+      interp.step(0.001);
+      ++cycles;
+    }
+    SCOPED_TRACE(zigzag ? "zigzag" : "collinear");
+    EXPECT_EQ(ch.state(), control::ChannelState::Finished);
+    EXPECT_LE(most_ins, static_cast<std::uint32_t>(control::Channel::kMaxInstructionsPerCycle));
+    EXPECT_LE(most_blocks, control::Channel::kMaxBlocksPerCycle + 2);
+    if (zigzag) {
+      EXPECT_LE(most_ins, control::Channel::kMaxBlocksPerCycle + 2);  // each commits a block
+    } else {
+      EXPECT_EQ(most_ins, static_cast<std::uint32_t>(control::Channel::kMaxInstructionsPerCycle));
+      EXPECT_LE(most_blocks, control::Channel::kMaxInstructionsPerCycle / 16 + 1);
+    }
+    EXPECT_EQ(interp.setpoint().pos, xy(dx * n, 0));
+  }
+}
+
 // The planning work of a cycle is bounded: a staircase of 90° corners on a jerk-limited machine
 // makes a quintic blend at every corner (60–190 µs each to build). 64 instructions a cycle would
 // build 64 of them; the channel stops a cycle's planning after kMaxCurvesPerCycle curves and goes

@@ -2,6 +2,7 @@
 // corners, and a jerk-limited run through the planner keeping every limit.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -278,4 +279,49 @@ TEST(PolylineSmoothing, UnevenLegsDoNotMakeCurvatureSpikes) {
   const auto re = run_within_limits(le, pts.back()), ru = run_within_limits(lu, pts.back());
   EXPECT_LT(static_cast<double>(re.cycles), 0.5 * static_cast<double>(ru.cycles)) << re.cycles << " vs " << ru.cycles;
 }
+// Thinning before smoothing (thin_polyline): 1 µm lines along a line, rounded as CAM prints them,
+// become legs of at most max_leg; a point off the chord by more than eps, a reversal and a line
+// longer than max_leg are kept, and so are the first and last points.
+TEST(PolylineSmoothing, ThinningDropsOnlyTinyCollinearPoints) {
+  std::vector<Vec> pts;
+  for (int k = 0; k <= 1000; ++k) {
+    Vec p;
+    p[0] = std::round(1e4 * 0.0007071 * k) / 1e4;  // a diagonal of 1 µm steps, 4 decimals
+    p[1] = std::round(1e4 * 0.0007071 * k) / 1e4;
+    pts.push_back(p);
+  }
+  std::vector<std::size_t> kept;
+  thin_polyline(pts, 1e-3, 0.05, 64, kept);
+  ASSERT_GE(kept.size(), 2u);
+  EXPECT_EQ(kept.front(), 0u);
+  EXPECT_EQ(kept.back(), pts.size() - 1);
+  EXPECT_LT(kept.size(), pts.size() / 40);  // legs of ~50 µm
+  for (std::size_t r = 0; r + 1 < kept.size(); ++r) {
+    EXPECT_LE(core::distance(pts[kept[r]], pts[kept[r + 1]]), 0.05 + 1e-12);
+    EXPECT_LE(kept[r + 1] - kept[r], 65u);
+    // Every dropped point within eps of its leg.
+    for (std::size_t k = kept[r] + 1; k < kept[r + 1]; ++k)
+      EXPECT_LE(make_line(pts[kept[r]], pts[kept[r + 1]]).distance_to(pts[k]), 1e-3 + 1e-12);
+  }
+  // Off the chord by 2 µm (eps 1 µm): kept.
+  std::vector<Vec> bump(pts.begin(), pts.begin() + 11);
+  bump[5][1] += 0.002;
+  thin_polyline(bump, 1e-3, 0.05, 64, kept);
+  EXPECT_NE(std::find(kept.begin(), kept.end(), 5u), kept.end());
+  // A reversal on the line: the turning point is kept.
+  std::vector<Vec> back;
+  for (int k = 0; k <= 10; ++k) back.push_back(testing::xyz(0.001 * k, 0));
+  for (int k = 9; k >= 0; --k) back.push_back(testing::xyz(0.001 * k, 0));
+  thin_polyline(back, 1e-3, 0.05, 64, kept);
+  EXPECT_NE(std::find(kept.begin(), kept.end(), 10u), kept.end());
+  // Lines longer than max_leg: nothing dropped (a long leg beside short ones bends the spline).
+  std::vector<Vec> longer;
+  for (int k = 0; k <= 10; ++k) longer.push_back(testing::xyz(0.25 * k, 0));
+  thin_polyline(longer, 1e-3, 0.05, 64, kept);
+  EXPECT_EQ(kept.size(), longer.size());
+  // max_dropped bounds a leg however long max_leg is.
+  thin_polyline(pts, 1e-3, 1e9, 64, kept);
+  for (std::size_t r = 0; r + 1 < kept.size(); ++r) EXPECT_LE(kept[r + 1] - kept[r], 65u);
+}
+
 }  // namespace softmc::motion

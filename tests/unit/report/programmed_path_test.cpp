@@ -29,14 +29,24 @@ program::Program spiral(int n) {
   return r.program ? *r.program : program::Program{};
 }
 
-// Every move of instructions tag - 1 .. tag + 1 tried: the definition the search must meet.
+// Every move the search may use tried: those of the instruction and one on either side, and
+// further the moves starting within kReach_mm of path before it or after it (at most kReachMoves
+// more each way): the definition the search must meet.
 double brute_force(const report::ProgrammedPath& pp, const core::Vec& p, std::uint32_t tag) {
   const std::size_t first = *pp.move_of[tag];
   std::size_t last = first;
   while (last + 1 < pp.moves.size() && pp.moves[last + 1].instruction <= tag) ++last;
+  std::vector<double> along{0};
+  for (const auto& m : pp.moves) along.push_back(along.back() + m.segment.length);
+  const auto reach = report::ProgrammedPath::kReach_mm;
+  const auto most = report::ProgrammedPath::kReachMoves;
   double d = std::numeric_limits<double>::infinity();
-  for (std::size_t m = first > 0 ? first - 1 : 0; m <= std::min(last + 1, pp.moves.size() - 1); ++m)
-    d = std::min(d, pp.moves[m].segment.distance_to(p, 0));
+  for (std::size_t m = 0; m < pp.moves.size(); ++m) {
+    const bool near = m + 1 >= first && m <= last + 1;
+    const bool before = m + 1 < first && first - 1 - m <= most && along[m] >= along[first] - reach;
+    const bool after = m > last + 1 && m - last - 1 <= most && along[m] < along[last + 1] + reach;
+    if (near || before || after) d = std::min(d, pp.moves[m].segment.distance_to(p, 0));
+  }
   return d;
 }
 }  // namespace
