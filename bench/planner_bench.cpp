@@ -2,10 +2,12 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <ctime>
 #include <cmath>
 #include <cstdint>
 #include <vector>
 
+#include "control/channel.hpp"
 #include "motion/geometry/polyline_smoothing.hpp"
 #include "motion/interp/interpolator.hpp"
 #include "motion/planner/planner.hpp"
@@ -208,3 +210,46 @@ static void BM_JerkCycleSmoothed4Axes(benchmark::State& state) {
   jerk_cycles(state, reqs);
 }
 BENCHMARK(BM_JerkCycleSmoothed4Axes)->DenseRange(0, 3)->Iterations(50'000);
+
+// One whole cycle of a channel (Channel::update, which plans, then Interpolator::step) on 1 µm
+// collinear lines at 100 mm/s: the channel runs up to kMaxInstructionsPerCycle (1024) of them a
+// cycle, merged 16 to a block by the planner. Arg: 0 trapezoids, 1 jerk limits (the lines thinned
+// into 20 µm legs and smoothed at load, not timed). max_cycle_us: the most CPU time one cycle took,
+// after the first 100 (those first touch the window's 4 MB of blocks: page faults, not planning).
+static void BM_ChannelCycleMicronLines(benchmark::State& state) {
+  const bool jerk = state.range(0) != 0;
+  motion::MachineLimits lim;
+  for (int i = 0; i < 2; ++i) lim.axis[i] = {200, 2000, jerk ? 50000.0 : 0.0, -1, 1e6};
+  program::Program prog;
+  prog.files = {"micron.ngc"};
+  constexpr int kLines = 400'000;  // 400 mm: 4 s at 100 mm/s
+  for (int k = 1; k <= kLines; ++k) {
+    core::Vec to{};
+    to[0] = 0.001 * k;
+    prog.instructions.push_back({{0, static_cast<std::uint32_t>(k), 1}, program::Linear{to, 100}});
+  }
+  prog.instructions.push_back({{0, kLines + 1u, 1}, program::ProgramEnd{}});
+  motion::Planner planner(lim, 2000);
+  motion::Interpolator interp(planner.queue(), core::Vec{});
+  control::Channel ch(planner, interp);
+  ch.load(prog);
+  ch.start({});
+  double worst = 0;
+  int n = 0;
+  for (auto _ : state) {
+    timespec t0{}, t1{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t0);
+    ch.update(0.001);
+    interp.step(0.001);
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t1);
+    const double us = 1e6 * static_cast<double>(t1.tv_sec - t0.tv_sec) + 1e-3 * static_cast<double>(t1.tv_nsec - t0.tv_nsec);
+    if (++n > 100) worst = std::max(worst, us);
+    if (ch.state() != control::ChannelState::Running) {
+      state.PauseTiming();
+      ch.start({});
+      state.ResumeTiming();
+    }
+  }
+  state.counters["max_cycle_us"] = worst;
+}
+BENCHMARK(BM_ChannelCycleMicronLines)->Arg(0)->Arg(1)->Iterations(3000)->Unit(benchmark::kMicrosecond);
