@@ -2,6 +2,7 @@
 #include "control/channel.hpp"
 
 #include <cmath>
+#include <numeric>
 
 #include "control/path.hpp"
 #include "motion/geometry/polyline_smoothing.hpp"
@@ -54,32 +55,29 @@ void Channel::load(const program::Program& prog) {
       cfg.max_turn_rad = pc.smoothing_max_turn_rad;
       // Tiny collinear lines become legs of up to kThinLeg_mm (1 µm CAM lines would otherwise be a
       // piece each, which the planner cannot merge: the window then covers too little to brake in,
-      // 31 mm/s on the built-in table instead of F6000). The
-      // points dropped lie within thin_share·P of the legs, and the spline keeps to the rest of the
-      // smoothing share, so it stays within smoothing_share·P of the program.
+      // 31 mm/s on the built-in table instead of F6000). The points dropped lie within
+      // thin_share·P of the legs, and the spline keeps to the rest of the smoothing share, so it
+      // stays within smoothing_share·P of the program. Nothing dropped: every point is a leg's end.
       const double eps = pc.smoothing_thin_share * run_tol;
+      kept.clear();
       if (eps > 0) motion::thin_polyline(run_pts, eps, kThinLeg_mm, kMaxThinned, kept);
-      if (eps > 0 && kept.size() < run_pts.size()) {
-        thin_pts.clear();
-        for (const std::size_t k : kept) thin_pts.push_back(run_pts[k]);
+      if (kept.size() < run_pts.size() && !kept.empty()) {
         cfg.tolerance_mm -= eps;
-        motion::smooth_polyline(thin_pts, cfg, run_out);
-        // Leg r stands for lines kept[r] … kept[r + 1] − 1: smoothed, the first carries its
-        // segments and the others none (executed with it); kept as a line, all stay as programmed
-        // (collinear lines, which the planner merges).
-        for (std::size_t r = 0; r + 1 < kept.size(); ++r) {
-          if (run_out[r].empty()) continue;
-          per[run_ins[kept[r]]] = std::move(run_out[r]);
-          precomputed_[run_ins[kept[r]]] = 1;
-          for (std::size_t k = kept[r] + 1; k < kept[r + 1]; ++k) precomputed_[run_ins[k]] = kAbsorbed;
-        }
       } else {
-        motion::smooth_polyline(run_pts, cfg, run_out);
-        for (std::size_t k = 0; k < run_ins.size(); ++k)
-          if (!run_out[k].empty()) {
-            per[run_ins[k]] = std::move(run_out[k]);
-            precomputed_[run_ins[k]] = 1;
-          }
+        kept.resize(run_pts.size());
+        std::iota(kept.begin(), kept.end(), std::size_t{0});
+      }
+      thin_pts.clear();
+      for (const std::size_t k : kept) thin_pts.push_back(run_pts[k]);
+      motion::smooth_polyline(thin_pts, cfg, run_out);
+      // Leg r stands for lines kept[r] … kept[r + 1] − 1: smoothed, the first carries its segments
+      // and the others none (executed with it); kept as a line, all stay as programmed (collinear
+      // lines, which the planner merges).
+      for (std::size_t r = 0; r + 1 < kept.size(); ++r) {
+        if (run_out[r].empty()) continue;
+        per[run_ins[kept[r]]] = std::move(run_out[r]);
+        precomputed_[run_ins[kept[r]]] = 1;
+        for (std::size_t k = kept[r] + 1; k < kept[r + 1]; ++k) precomputed_[run_ins[k]] = kAbsorbed;
       }
     }
     run_pts.clear();

@@ -32,7 +32,7 @@ class Channel {
   static constexpr std::uint64_t kMaxBlocksPerCycle = 64;
   // Curves the planner may build in one cycle (blend quintics and fillets, 60–190 µs each: their
   // arc-length tables and sampled limits): the planning work of a cycle stays under about 1 ms
-  // however many sharp corners the next 64 instructions hold.
+  // however many sharp corners a cycle's instructions hold.
   static constexpr std::uint64_t kMaxCurvesPerCycle = 4;
   // Thinning before smoothing (motion::thin_polyline): tiny collinear lines become legs of at most
   // kThinLeg_mm, at most kMaxThinned points dropped in a row (the work of load stays linear). Legs

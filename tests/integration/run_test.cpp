@@ -235,7 +235,9 @@ TEST(Run, CollinearMicronLinesRunAtTheFeedThroughTheChannel) {
       EXPECT_LE(r.sum.max_path_deviation_mm, 0.05);
       for (std::size_t i = 0; i < 2; ++i) {
         EXPECT_LE(r.sum.axis[i].max_acc_mm_s2, cfg.axes[i].max_acc_mm_s2 * (1 + 1e-6));
-        if (jerk) EXPECT_LE(r.sum.axis[i].max_jerk_mm_s3, cfg.axes[i].max_jerk_mm_s3 * (1 + 1e-6));
+        if (jerk) {
+          EXPECT_LE(r.sum.axis[i].max_jerk_mm_s3, cfg.axes[i].max_jerk_mm_s3 * (1 + 1e-6));
+        }
       }
       EXPECT_NEAR(r.res.trace.rows.back().cmd[0], std::round(1e4 * step * n) / 1e4, 1e-12);
     }
