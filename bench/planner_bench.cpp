@@ -214,7 +214,7 @@ BENCHMARK(BM_JerkCycleSmoothed4Axes)->DenseRange(0, 3)->Iterations(50'000);
 // One whole cycle of a channel (Channel::update, which plans, then Interpolator::step) on 1 µm
 // collinear lines at 100 mm/s: the channel runs up to kMaxInstructionsPerCycle (1024) of them a
 // cycle, merged 16 to a block by the planner. Arg: 0 trapezoids, 1 jerk limits (the lines thinned
-// into 20 µm legs and smoothed at load, not timed). max_cycle_us: the most CPU time one cycle took,
+// into 50 µm legs and smoothed at load, not timed). max_cycle_us: the most CPU time one cycle took,
 // after the first 100 (those first touch the window's 4 MB of blocks: page faults, not planning).
 static void BM_ChannelCycleMicronLines(benchmark::State& state) {
   const bool jerk = state.range(0) != 0;

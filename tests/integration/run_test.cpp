@@ -202,7 +202,7 @@ TEST(Run, SummaryStreamedRowByRowIsTheRecordedOne) {
 // Issue 4, "colinear tiny segments (CAM output) must flow at full feed", through the Channel: 1 µm
 // lines at F6000 (100 mm/s) along X, and on a diagonal rounded to 4 decimals as CAM prints it. The
 // channel executes up to 1024 instructions a cycle but commits at most 64 blocks (the planner merges
-// the lines 16 to a block); with jerk limits the smoothing thins them into 20 µm legs first (a
+// the lines 16 to a block); with jerk limits the smoothing thins them into 50 µm legs first (a
 // spline piece per 1 µm line filled the 2 000-block window with 2 mm, too little to brake in).
 // Before: 64 mm/s without jerk limits, 31 mm/s with them.
 TEST(Run, CollinearMicronLinesRunAtTheFeedThroughTheChannel) {
