@@ -26,11 +26,35 @@ double turn(const Vec& a, const Vec& b, const Vec& c) {
   return 2 * std::asin(std::min(1.0, chord / 2));
 }
 
+// The control points lie on the chord c0 → c3 (within kStraight_mm) and advance along it.
+bool straight(const std::array<Vec, 4>& c) {
+  constexpr double kStraight_mm = 1e-9;
+  const Vec d = c[3] - c[0];
+  const double len = core::norm(d);
+  if (!(len > 0)) return false;
+  const Vec u = d * (1 / len);
+  double prev = 0;
+  for (int k = 1; k <= 3; ++k) {
+    const Vec o = c[k] - c[0];
+    const double along = core::dot(o, u);
+    if (along < prev || core::norm(o - u * along) > kStraight_mm) return false;
+    prev = along;
+  }
+  return true;
+}
+
 // Appends the cubic piece c, or its two halves (de Casteljau at ½: the same curve, split exactly),
 // each again split while that pays (split_pays: a long line meeting short ones bends at one end),
 // down to pieces of min_length.
 void append_piece(std::vector<Segment>& out, const std::array<Vec, 4>& c, const PolylineSmoothing& cfg, int depth,
                   const Segment* built = nullptr) {
+  // A piece whose control points lie on one line, in order, is that line: run as a line, it keeps
+  // the whole jerk and acceleration a line allows instead of a curve's shares (zero curvature, and
+  // its neighbours' curvature is zero where they meet it: the spline stays C²).
+  if (depth == 0 && straight(c)) {
+    out.push_back(make_line(c[0], c[3]));
+    return;
+  }
   const Segment whole = built ? *built : make_cubic_bezier(c[0], c[1], c[2], c[3]);
   if (depth >= cfg.split_depth || !(whole.length > 2 * cfg.split_min_length_mm)) {
     out.push_back(whole);

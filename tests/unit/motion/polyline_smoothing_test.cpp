@@ -324,4 +324,33 @@ TEST(PolylineSmoothing, ThinningDropsOnlyTinyCollinearPoints) {
   for (std::size_t r = 0; r + 1 < kept.size(); ++r) EXPECT_LE(kept[r + 1] - kept[r], 65u);
 }
 
+// A piece whose control points lie on one line is executed as that line (the whole jerk a line
+// allows, not a curve's shares): a floor pass of 0.25 mm lines that then bends up a slope. The
+// pieces deep in the floor are lines, those near the bend are curves, and the spline stays C².
+TEST(PolylineSmoothing, StraightPiecesAreLines) {
+  std::vector<Vec> pts;
+  for (int k = 0; k <= 40; ++k) pts.push_back(testing::xyz(0.25 * k, 0, 0));
+  for (int k = 1; k <= 20; ++k) pts.push_back(testing::xyz(10 + 0.25 * k, 0, 0.25 * k * std::tan(0.1)));
+  PolylineSmoothing cfg;
+  std::vector<std::vector<Segment>> lines;
+  smooth_polyline(pts, cfg, lines);
+  ASSERT_EQ(lines.size(), 60u);
+  for (std::size_t i = 1; i < 30; ++i) {  // the floor, away from the stub and the bend
+    ASSERT_EQ(lines[i].size(), 1u) << i;
+    EXPECT_EQ(lines[i][0].kind, SegmentKind::Line) << i;
+  }
+  for (std::size_t i = 38; i < 42; ++i)  // around the bend at line 40
+    for (const auto& sg : lines[i]) EXPECT_EQ(sg.kind, SegmentKind::Poly) << i;
+  const auto segs = flatten(lines);
+  for (std::size_t k = 0; k + 1 < segs.size(); ++k) {
+    const Segment& a = segs[k];
+    const Segment& b = segs[k + 1];
+    EXPECT_EQ(a.end, b.start) << k;
+    EXPECT_LT(core::norm(a.tangent(a.length) - b.tangent(0)), 1e-9) << k;
+    EXPECT_LT(core::norm(a.curvature(a.length) - b.curvature(0)), 1e-6) << k;
+  }
+  for (const auto& sg : segs)
+    for (int k = 0; k <= 16; ++k) EXPECT_LE(distance_to_polyline(sg.point(sg.length * k / 16), pts), cfg.tolerance_mm);
+}
+
 }  // namespace softmc::motion
