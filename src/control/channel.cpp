@@ -151,14 +151,9 @@ bool Channel::push_curve(int& budget) {
   while (first + curve_next_ < last) {
     if (planner_.queue().full() || budget <= 0 || planning_spent()) return false;
     const auto& seg = curve_segments_[first + curve_next_];
-    motion::PathRequest req;
-    req.geom = seg;
-    req.feed_mm_s = feed;
-    req.tag = pc_;
-    req.tag_last = tag_last;
-    req.tolerance_mm = path_tolerance_mm_;
-    req.mergeable = false;  // a smoothed run's stubs keep the direction their spline leaves along
-    const auto r = planner_.push(req);
+    req_.geom = seg;
+    // Not mergeable: a smoothed run's stubs keep the direction their spline leaves along.
+    const auto r = planner_.push(request(feed, false, false, tag_last));
     if (r != motion::PlanResult::Ok) {
       fail(motion::to_string(r), r);
       return false;
@@ -169,6 +164,18 @@ bool Channel::push_curve(int& budget) {
   }
   curve_next_ = 0;
   return true;
+}
+
+// rt-safe
+const motion::PathRequest& Channel::request(double feed_mm_s, bool rapid, bool mergeable, std::uint32_t tag_last) {
+  req_.feed_mm_s = feed_mm_s;
+  req_.rapid = rapid;
+  req_.tag = pc_;
+  req_.tag_last = tag_last;
+  req_.tolerance_mm = path_tolerance_mm_;
+  req_.profile = motion::ProfileKind::Scurve;
+  req_.mergeable = mergeable;
+  return req_;
 }
 
 // rt-safe
@@ -272,18 +279,14 @@ void Channel::update(double dt_s) {
       ++pc_;
       continue;
     }
-    if (auto seg = to_segment(op, plan_pos_)) {
+    if (to_segment(op, plan_pos_, req_.geom)) {  // written in place: no Segment built per line
       if (planner_.queue().full() || planning_spent()) return;  // wait for room, or the next cycle
-      motion::PathRequest req;
-      req.geom = *seg;
-      req.rapid = std::holds_alternative<program::Rapid>(op);
-      if (const auto* l = std::get_if<program::Linear>(&op)) req.feed_mm_s = l->feed_mm_s;
-      if (const auto* a = std::get_if<program::Arc>(&op)) req.feed_mm_s = a->feed_mm_s;
-      req.tag = pc_;
-      req.tolerance_mm = path_tolerance_mm_;
-      const auto r = planner_.push(req);
+      double feed = 0;
+      if (const auto* l = std::get_if<program::Linear>(&op)) feed = l->feed_mm_s;
+      if (const auto* a = std::get_if<program::Arc>(&op)) feed = a->feed_mm_s;
+      const auto r = planner_.push(request(feed, std::holds_alternative<program::Rapid>(op), true, pc_));
       if (r != motion::PlanResult::Ok) return fail(motion::to_string(r), r);
-      plan_pos_ = seg->end;
+      plan_pos_ = req_.geom.end;
       ++pc_;
       continue;
     }

@@ -85,6 +85,8 @@ class Channel {
   void stop(motion::StopKind kind);
   // rt-safe: the override the interpolator runs with: the PLC's, or 1 under M49.
   void set_override() { interp_.set_feed_override(override_enabled_ ? feed_override_ : 1.0); }
+  // rt-safe: req_ for the motion at pc_, whose geometry is already in req_.geom: every other field set.
+  const motion::PathRequest& request(double feed_mm_s, bool rapid, bool mergeable, std::uint32_t tag_last);
   // rt-safe: pushes the precomputed segments of the curve at pc_; false while the queue is full.
   bool push_curve(int& budget);
   // rt-safe: this cycle's planning budget is spent (kMaxCurvesPerCycle curves built, or
@@ -100,6 +102,9 @@ class Channel {
   ChannelState state_ = ChannelState::Idle;
   std::uint32_t pc_ = 0;
   core::Vec plan_pos_;  // where the last planned motion ends
+  // The request every push is built in (a Segment is 1.3 kB: built and copied anew for each
+  // programmed line, it was most of a merged line's cost).
+  motion::PathRequest req_;
   double path_tolerance_mm_ = -1;  // G61/G64 P: PathRequest::tolerance_mm (< 0: the planner's default)
   double dwell_left_s_ = 0;
   bool tool_on_ = false;

@@ -10,11 +10,22 @@ namespace softmc::control {
 
 // rt-safe
 std::optional<motion::Segment> to_segment(const program::Op& op, const core::Vec& from) {
-  if (const auto* r = std::get_if<program::Rapid>(&op)) return motion::make_line(from, r->end);
-  if (const auto* l = std::get_if<program::Linear>(&op)) return motion::make_line(from, l->end);
-  if (const auto* a = std::get_if<program::Arc>(&op))
-    return motion::make_arc(from, a->end, a->axis0, a->axis1, a->center0, a->center1, a->turns);
-  return std::nullopt;
+  motion::Segment s;
+  if (!to_segment(op, from, s)) return std::nullopt;
+  return s;
+}
+
+bool to_segment(const program::Op& op, const core::Vec& from, motion::Segment& out) {
+  if (const auto* r = std::get_if<program::Rapid>(&op)) {
+    motion::set_line(out, from, r->end);
+  } else if (const auto* l = std::get_if<program::Linear>(&op)) {
+    motion::set_line(out, from, l->end);
+  } else if (const auto* a = std::get_if<program::Arc>(&op)) {
+    out = motion::make_arc(from, a->end, a->axis0, a->axis1, a->center0, a->center1, a->turns);
+  } else {
+    return false;
+  }
+  return true;
 }
 
 bool is_curve(const program::Op& op) {

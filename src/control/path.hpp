@@ -13,6 +13,9 @@ namespace softmc::control {
 // The segment a motion instruction describes when it starts at `from`; nothing for a non-motion op.
 // rt-safe.
 std::optional<motion::Segment> to_segment(const program::Op& op, const core::Vec& from);
+// The same written into `out` (false, `out` untouched, for a non-motion op): a line is set in place
+// (motion::set_line), without building a whole Segment. rt-safe.
+bool to_segment(const program::Op& op, const core::Vec& from, motion::Segment& out);
 
 // True for the curve ops (G5/G5.1 Bezier, G5.2 NURBS) that become several segments.
 bool is_curve(const program::Op& op);

@@ -14,12 +14,20 @@ static_assert(std::is_trivially_copyable_v<Segment>, "queues copy Segments bytew
 
 Segment make_line(const Vec& start, const Vec& end) {
   Segment s;
+  set_line(s, start, end);
+  return s;
+}
+
+void set_line(Segment& s, const Vec& start, const Vec& end) {
   s.kind = SegmentKind::Line;
   s.start = start;
   s.end = end;
   s.length = core::distance(start, end);
-  if (s.length > 0) s.dir = (end - start) * (1.0 / s.length);
-  return s;
+  s.dir = s.length > 0 ? (end - start) * (1.0 / s.length) : Vec{};
+  s.axis0 = 0;
+  s.axis1 = 1;
+  s.c0 = s.c1 = s.radius = s.theta0 = s.sweep = s.dradius = 0;
+  s.linear = Vec{};
 }
 
 Segment make_arc(const Vec& start, const Vec& end, std::uint8_t axis0, std::uint8_t axis1, double c0, double c1,

@@ -88,6 +88,10 @@ struct Segment {
 };
 
 Segment make_line(const Vec& start, const Vec& end);
+// The same line written into `s` in place, every field make_line sets; `s.poly` is left as it is (a
+// line never reads it). For the Channel, which would otherwise build and copy a whole Segment
+// (1.3 kB, most of it the Poly tables) for every programmed line. rt-safe.
+void set_line(Segment& s, const Vec& start, const Vec& end);
 
 // Arc from `start` about centre (c0, c1) in plane (axis0, axis1) to `end`, sweeping `turns`
 // revolutions as the IR defines them (sign = direction). The radius is taken at the start point;
