@@ -249,7 +249,12 @@ void Channel::stop(motion::StopKind kind) {
 void Channel::update(double dt_s) {
   if (state_ == ChannelState::Stopping) {
     // The interpolator drops everything planned at rest; with nothing in motion there is nothing to brake.
-    if (!interp_.stopped() && !interp_.idle()) return;
+    if (!interp_.stopped() && !interp_.idle()) {
+      // The path only slows from here: each cycle, the curves ahead get the limits their geometry
+      // allows at the speed it has now, and it brakes harder as it slows (Planner::limit_for_stop).
+      if (interp_.stopping()) planner_.limit_for_stop(interp_.path_speed(), interp_.path_acceleration(), interp_.front_progress());
+      return;
+    }
     interp_.acknowledge_stop();
     if (stop_in_motion_) stop_pc_ = interp_.setpoint().tag;
     state_ = ChannelState::Stopped;

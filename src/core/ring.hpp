@@ -52,8 +52,10 @@ class Ring {
     head_ = size_ = 0;
     ++changes_;
   }
-  // Counts pops and clears: while it stays the same, at(i) is the same element for every i < size()
-  // (pushes only append). Lets a reader keep what it derived from the elements between calls.
+  // Elements were changed in place: counted like a clear by changes(), so readers derive again.
+  void touch() { ++changes_; }
+  // Counts pops, clears and touches: while it stays the same, at(i) is the same element for every
+  // i < size() (pushes only append). Lets a reader keep what it derived from the elements between calls.
   std::uint64_t changes() const { return changes_; }
   // Counts pops alone: where changes() moved by as much, the elements were only popped (no clear),
   // and at(i) now is at(i + that many) before.

@@ -109,6 +109,10 @@ class Interpolator {
     stopped_ = false;
   }
   bool stopping() const { return stop_ != StopKind::None; }
+  // The path's speed and, in jerk mode, acceleration after the last step (0 with trapezoids).
+  double path_speed() const { return v_; }
+  double path_acceleration() const { return a_; }
+  double front_progress() const { return s_; }  // jerk mode: distance into the front block
   double feed_override() const { return rule_.feed_override; }
   const SpeedRule& speed_rule() const { return rule_; }
   // Jerk mode: cycles run, and candidate steps whose verdict needed the simulation of π (the rest

@@ -56,6 +56,12 @@ struct alignas(64) Block {
   // (Segment). feed_mm_s already carries it; a P-8 feed limit is taken times it (soft_speed).
   double feed_scale = 1;
   double merge_q_mm = 0;      // a merged line: largest distance of the programmed corners it replaces
+  // A Poly block's limits as segment_limits derived them (before junction shares lowered them), for
+  // the speed it was asked for (relimit_v, ∞: none) and the jerk bound it took (relimit_norm): a
+  // stop derives them again for the speed the path has then (Planner::limit_for_stop). 0: none kept.
+  double base_a = 0, base_j = 0, relimit_v = 0;
+  bool relimit_norm = true;
+  double stop_a0 = 0, stop_j0 = 0;  // its a_mm_s2 and j_mm_s3 before the first limit_for_stop
   TangentLaw law;             // tangential acceleration allowed at each speed (backward pass and the
                               // trapezoid interpolator); on jerk blocks the constant a_mm_s2
   Segment seg;            // the geometry when !is_blend (line or arc/helix)

@@ -32,12 +32,18 @@ void join_blend(Block& blend, const Block& a, const Block& b) {
   blend.tag_last = b.tag_last;
 }
 
-// A block's speed limits from its segment's (j: its path jerk, ∞ without a jerk limit).
-void set_limits(Block& b, const SegmentLimits& l, double j) {
+// A block's speed limits from its segment's (j: its path jerk, ∞ without a jerk limit), derived by
+// segment_limits for the speed v_target with jerk_norm (kept on Poly blocks: limit_for_stop).
+void set_limits(Block& b, const SegmentLimits& l, double j, double v_target = 0, bool jerk_norm = true) {
   b.a_mm_s2 = l.a_max_mm_s2;
   b.v_cap_mm_s = l.v_max_mm_s;
   b.v_split_mm_s = l.v_max_mm_s;
   b.j_mm_s3 = j;
+  const bool keep = b.seg.kind == SegmentKind::Poly && !b.is_blend && std::isfinite(j) && v_target > 0;
+  b.base_a = keep ? l.a_max_mm_s2 : 0;
+  b.base_j = keep ? j : 0;
+  b.relimit_v = keep ? v_target : 0;
+  b.relimit_norm = jerk_norm;
 }
 
 // rt-safe. Largest off(u) over u ∈ (0, 1) — the distance of a blend's point from the curves it
@@ -579,7 +585,7 @@ PlanResult Planner::plan(const PathRequest& req, double merge_dev_mm, std::uint3
   b.tag_last = std::max({req.tag, req.tag_last, tag_last});
   b.length = req.geom.length;
   b.merge_q_mm = merge_dev_mm;
-  set_limits(b, sl, req.profile == ProfileKind::Trapezoid ? kInf : sl.j_max_mm_s3);
+  set_limits(b, sl, req.profile == ProfileKind::Trapezoid ? kInf : sl.j_max_mm_s3, target_speed(req.rapid, req.feed_mm_s));
   set_law(b, [&] { return segment_law(req.geom, limits_); });
   b.feed_mm_s = req.rapid ? kInf : req.feed_mm_s;
   // A spiral (an arc whose end is off its circle) runs at |dp/ds| up to hypot(inplane, linear) > 1
@@ -689,7 +695,7 @@ void Planner::join(Block& b, double p_mm) {
             blend = Block{};
             blend.seg = q.segment;
             blend.length = q.segment.length;
-            set_limits(blend, ql, ql.j_max_mm_s3);
+            set_limits(blend, ql, ql.j_max_mm_s3, vq, false);
             set_law(blend, [&] { return segment_law(blend.seg, limits_); });
             d = dq;
           }
@@ -919,7 +925,7 @@ bool Planner::blend_curves(Block& a, Block& b, double tol, double da_half, Block
   blend = Block{};
   blend.seg = q.segment;
   blend.length = q.segment.length;
-  set_limits(blend, ql, jerk ? ql.j_max_mm_s3 : kInf);
+  set_limits(blend, ql, jerk ? ql.j_max_mm_s3 : kInf, vq, false);
   set_law(blend, [&] { return segment_law(blend.seg, limits_); });
   join_blend(blend, a, b);
   a.seg = trimmed(a.seg, 0, a.length - da);
@@ -1024,7 +1030,7 @@ bool Planner::fillet(Block& c, double p_mm) {
   Block blend;
   blend.seg = q.segment;
   blend.length = q.segment.length;
-  set_limits(blend, ql, ql.j_max_mm_s3);
+  set_limits(blend, ql, ql.j_max_mm_s3, vq, false);
   set_law(blend, [&] { return segment_law(blend.seg, limits_); });
   join_blend(blend, a, c);
   blend.feed_mm_s = std::min(blend.feed_mm_s, h.feed_mm_s);  // never faster than the arc it replaces
@@ -1042,6 +1048,51 @@ bool Planner::fillet(Block& c, double p_mm) {
 }
 
 // rt-safe
+// rt-safe. A stop (P-5), the path at speed v and acceleration a, s_front into the front block. Once
+// a ≤ 0 the brake only slows it: no block it may still reach needs its limits above v. A Poly block's
+// fixed split was derived for the speed it was asked for (its cap, from the feed at the highest
+// override); derived again for v, the centripetal share and the curvature's share of the jerk take
+// only what v needs and the tangential acceleration and jerk get the rest (a corner quintic's
+// 3·v·a_t·κ alone: its acceleration × cap / v). Each such block within reach of the brake is raised
+// by those ratios (what junction shares took off stays off, in proportion) and capped at v. Called
+// every cycle of a stop, as v falls: the brake is certified with the limits of the present cycle,
+// which the next only raises, so the fallback certified before stays safe. While a > 0 (v still
+// rises a little) nothing changes. Lines, arcs and blend arcs keep theirs. At most kStopBlocks
+// blocks: bounded work. The stop ends the program and drops the window, so nothing else runs on
+// the blocks changed here.
+void Planner::limit_for_stop(double v, double a, double s_front) {
+  auto& ring = queue_.ring_;
+  const std::size_t n = std::min(ring.size(), kStopBlocks);
+  if (n == 0 || !(v > 0) || a > 0) return;
+  // The blocks a brake with the least limits so far could reach: it lasts no longer than bringing
+  // a to −A, then ramping down from v (each at least A, J), at speeds up to v.
+  double a_min = kInf, j_min = kInf, walked = -s_front;
+  std::size_t reach = 0;
+  while (reach < n) {
+    const Block& b = ring.at(reach++);
+    a_min = std::min(a_min, b.a_mm_s2);
+    j_min = std::min(j_min, b.j_mm_s3);
+    walked += b.length;
+    if (!std::isfinite(j_min) || !(a_min > 0) || !(j_min > 0)) return;  // a trapezoid block: its own law
+    if (walked >= v * ((a_min - a) / j_min + v / a_min + a_min / j_min)) break;
+  }
+  bool changed = false;
+  for (std::size_t k = 0; k < reach; ++k) {
+    Block& b = ring.at(k);
+    if (!(b.base_a > 0) || !(b.base_j > 0) || b.seg.kind != SegmentKind::Poly || !(v < b.v_cap_mm_s)) continue;
+    const SegmentLimits l = segment_limits(b.seg, limits_, config_.centripetal_share, std::min(v, b.relimit_v), b.relimit_norm);
+    const double fa = l.a_max_mm_s2 / b.base_a, fj = l.j_max_mm_s3 / b.base_j;
+    if (!std::isfinite(fa) || !std::isfinite(fj)) continue;
+    if (!(b.stop_a0 > 0)) b.stop_a0 = b.a_mm_s2, b.stop_j0 = b.j_mm_s3;
+    b.v_cap_mm_s = b.v_split_mm_s = v;
+    b.a_mm_s2 = b.stop_a0 * std::max(1.0, fa);
+    b.j_mm_s3 = b.stop_j0 * std::max(1.0, fj);
+    b.law = TangentLaw::constant(b.a_mm_s2);
+    changed = true;
+  }
+  if (changed) ring.touch();  // readers that keep what they derived from the blocks begin again
+}
+
 void Planner::flush() {
   emit_stage();  // validated when pushed: the merged line is inside the hull of what was checked
   release_held();

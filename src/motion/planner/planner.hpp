@@ -130,6 +130,12 @@ class Planner {
   PlanResult push(const PathRequest& req);
   // rt-safe. No more motion for now: the pending block is committed and the path ends at rest there.
   void flush();
+  // rt-safe. A stop was taken with the path at speed v, acceleration a, s_front into the front block
+  // (Interpolator::path_speed, path_acceleration, front_progress): the blocks within reach of the
+  // brake get the limits their geometry allows up to the speed the path can still have, no more
+  // than that (docs/planner.md, "Stops in curves").
+  void limit_for_stop(double v, double a, double s_front);
+  static constexpr std::size_t kStopBlocks = 256;
 
   PlanQueue& queue() { return queue_; }
   const PlanQueue& queue() const { return queue_; }

@@ -158,3 +158,53 @@ TEST(PlannerPoly, NurbsCuspIsAReversalNotCrossedAtSpeed) {
   EXPECT_LE(res.fig.deviation_mm, 0.05) << res.fig.describe();
   EXPECT_EQ(res.end, ctrl.back());
 }
+
+// P-5: a stop lets the curves ahead use the limits their geometry allows at the speed the path has
+// (Planner::limit_for_stop). A Poly piece planned for its cap gets a larger acceleration and jerk,
+// capped at that speed, in the same ratio segment_limits gives at that speed; asked again at the same
+// speed nothing moves (no compounding), at a lower one they rise further, never fall; lines keep
+// theirs, and nothing changes while the path still accelerates.
+TEST(PlannerPoly, P5_AStopRaisesACurvesLimitsToWhatItsSpeedAllows) {
+  auto lim = xyz_limits(100, 1000);
+  for (int i = 0; i < 3; ++i) lim.axis[i].j_max_mm_s3 = 10000;
+  Planner planner(lim, 64);
+  const Segment curve = make_cubic_bezier(xyz(10, 0), xyz(13, 0), xyz(16, 1.5), xyz(18, 4));
+  PathRequest line = line_req(xyz(0, 0), xyz(10, 0), 100, 0);
+  PathRequest bend;
+  bend.geom = curve;
+  bend.feed_mm_s = 100;
+  bend.tag = 1;
+  bend.mergeable = false;
+  ASSERT_EQ(planner.push(line), PlanResult::Ok);
+  ASSERT_EQ(planner.push(bend), PlanResult::Ok);
+  planner.flush();
+  auto& ring = planner.queue().ring();
+  std::size_t k = ring.size();
+  for (std::size_t i = 0; i < ring.size(); ++i)
+    if (ring.at(i).seg.kind == SegmentKind::Poly && ring.at(i).length > 1) k = i;
+  ASSERT_LT(k, ring.size());
+  const Block before = ring.at(k), line_before = ring.at(0);
+  ASSERT_GT(before.v_cap_mm_s, 20);
+  // 0.5 mm before the curve (9.5 mm into the line, the front block): within reach of any brake.
+  const auto changes = ring.changes();
+  planner.limit_for_stop(20, 50, 9.5);  // still accelerating: nothing yet
+  EXPECT_EQ(ring.at(k).a_mm_s2, before.a_mm_s2);
+  EXPECT_EQ(ring.changes(), changes);
+  planner.limit_for_stop(20, -10, 9.5);
+  const Block at20 = ring.at(k);
+  const auto l_cap = segment_limits(curve, lim, planner.config().centripetal_share, 200);
+  const auto l_20 = segment_limits(curve, lim, planner.config().centripetal_share, 20);
+  EXPECT_EQ(at20.v_cap_mm_s, 20);
+  EXPECT_NEAR(at20.a_mm_s2, before.a_mm_s2 * l_20.a_max_mm_s2 / l_cap.a_max_mm_s2, 1e-9 * at20.a_mm_s2);
+  EXPECT_GT(at20.a_mm_s2, 1.2 * before.a_mm_s2);
+  EXPECT_GE(at20.j_mm_s3, before.j_mm_s3);
+  EXPECT_NE(ring.changes(), changes);  // the guard's index begins again
+  EXPECT_EQ(ring.at(0).a_mm_s2, line_before.a_mm_s2);  // a line keeps its limits
+  planner.limit_for_stop(20, -10, 9.5);
+  EXPECT_EQ(ring.at(k).a_mm_s2, at20.a_mm_s2);  // the same speed again: the same limits
+  EXPECT_EQ(ring.at(k).j_mm_s3, at20.j_mm_s3);
+  planner.limit_for_stop(5, -10, 9.5);
+  EXPECT_GT(ring.at(k).a_mm_s2, at20.a_mm_s2);
+  EXPECT_GE(ring.at(k).j_mm_s3, at20.j_mm_s3);
+  EXPECT_EQ(ring.at(k).v_cap_mm_s, 5);
+}
