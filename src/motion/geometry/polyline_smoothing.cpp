@@ -26,13 +26,22 @@ double turn(const Vec& a, const Vec& b, const Vec& c) {
   return 2 * std::asin(std::min(1.0, chord / 2));
 }
 
-// The control points lie on the chord c0 → c3 (within kStraight_mm) and advance along it.
+// The control points lie on the chord c0 → c3 (within kStraight_mm) and advance along it, and the
+// piece leaves and ends along the chord (its end tangents, which its neighbours share, within
+// kStraightTurn of it): as a line it then meets them at a turn the planner takes as tangent
+// (PlannerConfig::tangent_rad, 1e-9). Near-collinear points printed to 7 decimals pass the first
+// test but turn by 1e-8 to 1e-7 rad: as lines they were corners, blended and crossed at 6 mm/s on
+// average (a fuzzer's case); they stay cubics.
 bool straight(const std::array<Vec, 4>& c) {
-  constexpr double kStraight_mm = 1e-9;
+  constexpr double kStraight_mm = 1e-9, kStraightTurn = 1e-10;
   const Vec d = c[3] - c[0];
   const double len = core::norm(d);
   if (!(len > 0)) return false;
   const Vec u = d * (1 / len);
+  const Vec t0 = c[1] - c[0], t1 = c[3] - c[2];
+  const double l0 = core::norm(t0), l1 = core::norm(t1);
+  if (!(l0 > 0) || !(l1 > 0) || core::norm(t0 * (1 / l0) - u) > kStraightTurn || core::norm(t1 * (1 / l1) - u) > kStraightTurn)
+    return false;
   double prev = 0;
   for (int k = 1; k <= 3; ++k) {
     const Vec o = c[k] - c[0];

@@ -351,6 +351,17 @@ TEST(PolylineSmoothing, StraightPiecesAreLines) {
   }
   for (const auto& sg : segs)
     for (int k = 0; k <= 16; ++k) EXPECT_LE(distance_to_polyline(sg.point(sg.length * k / 16), pts), cfg.tolerance_mm);
+  // Nearly straight is not enough: 10 µm lines on a diagonal printed to 7 decimals give pieces
+  // straight within 1e-9 mm whose ends turn by up to 1e-7 rad (a fuzzer's case). Whatever becomes a
+  // line meets its neighbours at a turn the planner takes as tangent (1e-9).
+  std::vector<Vec> diag;
+  for (int k = 0; k <= 400; ++k)
+    diag.push_back(testing::xyz(std::round(1e7 * 0.01 * k * 0.3939193) / 1e7, std::round(1e7 * 0.01 * k * 0.9191450) / 1e7));
+  std::vector<std::vector<Segment>> dl;
+  smooth_polyline(diag, cfg, dl);
+  const auto ds = flatten(dl);
+  for (std::size_t k = 0; k + 1 < ds.size(); ++k)
+    EXPECT_LE(core::norm(ds[k].tangent(ds[k].length) - ds[k + 1].tangent(0)), 1e-9) << k;
 }
 
 }  // namespace softmc::motion
