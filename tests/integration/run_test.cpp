@@ -249,7 +249,7 @@ TEST(Run, CollinearMicronLinesRunAtTheFeedThroughTheChannel) {
 // 1e-8 to 1e-7 rad at the knots; run as lines they were corners, blended, and the path stopped
 // about 48 times in 10 mm (23.7 mm/s at most). A piece runs as a line only where it also leaves and
 // ends along its chord; these stay cubics and the line runs at F6000.
-TEST(Run, NearlyCollinearLinesPrintedTo7DecimalsRunAtTheFeed) {
+TEST(Run, NearlyCollinearPrintedLinesRunAtTheFeedWithinTheJerk) {
   const auto cfg = machine::default_machine();
   std::string text = "G21 G90 G64 P0.05\nG1 F6000\n";
   const double ux = 0.3 / std::hypot(0.3, 0.7), uy = 0.7 / std::hypot(0.3, 0.7);
@@ -265,4 +265,42 @@ TEST(Run, NearlyCollinearLinesPrintedTo7DecimalsRunAtTheFeed) {
   EXPECT_NEAR(r.sum.max_path_speed_mm_s, v, 1e-6);
   EXPECT_LE(r.sum.cycle_time_s, 1.05 * ideal_s) << r.sum.cycle_time_s << " s vs " << ideal_s;
   EXPECT_LE(r.sum.max_path_deviation_mm, 0.05);
+  // The same fuzzer (seed 3650, shrunk): collinear 3-axis lines printed to 9 decimals whose pieces
+  // turned by up to 9.9e-10 rad, under the planner's tangent test: as lines they were crossed at
+  // full speed with the whole jerk, and z went 1.2e-5 over its limit (v·θ/dt² on top).
+  const std::string text3 =
+      "G21 G90 G17\n"
+      "G0 X225.7577 Y167.4487 Z60.9079\n"
+      "G64 P0.1\n"
+      "G1 X226.2577 F6554.3\n"
+      "G1 X238.167033682 Y154.883921199 Z57.869937404\n"
+      "G1 X238.174532746 Y154.877588416 Z57.868024316\n"
+      "G1 X241.024177078 Y152.47113102 Z57.141051151\n"
+      "G1 X241.106666783 Y152.401470411 Z57.120007191\n"
+      "G1 X241.451623728 Y152.110162411 Z57.032005176\n"
+      "G1 X241.526614368 Y152.046834585 Z57.012874303\n"
+      "G1 X241.534113432 Y152.040501802 Z57.010961216\n"
+      "G1 X241.571608753 Y152.008837889 Z57.00139578\n"
+      "G1 X241.594105945 Y151.989839541 Z56.995656518\n"
+      "G1 X241.631601265 Y151.958175628 Z56.986091082\n"
+      "G1 X241.669096585 Y151.926511715 Z56.976525645\n"
+      "G1 X241.736588161 Y151.869516671 Z56.95930786\n"
+      "G1 X241.744087225 Y151.863183889 Z56.957394772\n"
+      "G1 X241.819077866 Y151.799856062 Z56.9382639\n"
+      "G1 X241.82657693 Y151.79352328 Z56.936350812\n"
+      "G1 X241.90156757 Y151.730195454 Z56.91721994\n"
+      "G1 X241.93906289 Y151.69853154 Z56.907654503\n"
+      "G1 X242.351511412 Y151.350228496 Z56.802434703\n"
+      "G1 X242.359010476 Y151.343895714 Z56.800521616\n"
+      "G1 X242.568984269 Y151.1665778 Z56.746955172\n"
+      "G1 X243.131414071 Y150.691619104 Z56.603473626\n"
+      "G1 X243.401380376 Y150.463638929 Z56.534602484\n"
+      "M2\n";
+  const auto r3 = run_source(text3, "seed3650.ngc", cfg);
+  for (const auto& ax : cfg.axes) {
+    if (!ax.enabled) continue;
+    EXPECT_LE(r3.sum.axis[ax.index].max_jerk_mm_s3, ax.max_jerk_mm_s3 * (1 + 1e-6)) << ax.name;
+    EXPECT_LE(r3.sum.axis[ax.index].max_acc_mm_s2, ax.max_acc_mm_s2 * (1 + 1e-6)) << ax.name;
+  }
+  EXPECT_LE(r3.sum.max_path_deviation_mm, 0.1);
 }

@@ -29,11 +29,13 @@ double turn(const Vec& a, const Vec& b, const Vec& c) {
 // The control points lie on the chord c0 → c3 (within kStraight_mm) and advance along it, and the
 // piece leaves and ends along the chord (its end tangents, which its neighbours share, within
 // kStraightTurn of it): as a line it then meets them at a turn the planner takes as tangent
-// (PlannerConfig::tangent_rad, 1e-9). Near-collinear points printed to 7 decimals pass the first
-// test but turn by 1e-8 to 1e-7 rad: as lines they were corners, blended and crossed at 6 mm/s on
-// average (a fuzzer's case); they stay cubics.
+// (PlannerConfig::tangent_rad, 1e-9) and that adds no jerk to speak of: a turn θ crossed at v adds
+// about v·θ/dt² (1e-12 rad at 250 mm/s: 2.5e-4 mm/s³). Near-collinear points printed to 7 decimals
+// pass the first test but turn by 1e-8 to 1e-7 rad: as lines they were corners, blended and crossed
+// at 6 mm/s on average; at 9 decimals, turns of 1e-9 passed the planner as tangent and added 0.12
+// mm/s³ over the jerk limit (a fuzzer's cases). They stay cubics.
 bool straight(const std::array<Vec, 4>& c) {
-  constexpr double kStraight_mm = 1e-9, kStraightTurn = 1e-10;
+  constexpr double kStraight_mm = 1e-9, kStraightTurn = 1e-12;
   const Vec d = c[3] - c[0];
   const double len = core::norm(d);
   if (!(len > 0)) return false;
