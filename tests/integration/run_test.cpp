@@ -304,3 +304,35 @@ TEST(Run, NearlyCollinearPrintedLinesRunAtTheFeedWithinTheJerk) {
   }
   EXPECT_LE(r3.sum.max_path_deviation_mm, 0.1);
 }
+
+// A fuzzer's case: a weighted G5.2 whose control points double back along X (264, 288 with weight
+// 3, 266). The curve turns at a cusp, where it is split and the pieces meet as a reversal. Two
+// kinds of rounding broke that: Y and Z, constant in the program, differed by a few ulps between
+// the weighted control points and counted as moving, so near the cusp (|C'| → 0) the tangent turned
+// into Y and Z, curvatures of 1e26/mm capped the pieces at 1e-16 mm/s and the run never ended; and
+// C' of 1e-14 at the collapsed end was taken as a direction, so without that noise the reversal
+// looked tangent. Now the flat axes are flat, a C' below a billionth of C'' is stationary, and the
+// run ends on its last point, stopping at the cusp, within every limit.
+TEST(Run, AWeightedNurbsDoublingBackAlongALineStopsAtItsCuspAndEnds) {
+  const auto cfg = machine::default_machine();
+  auto p = program::iso::parse("G21 G90 G17 G94\nG64 P0.5\nG0 X264 Y200 Z46\nG5.2 X264 Y200 P1 L3 F1200\n"
+                               "X288 Y200 P3\nX266 Y200 P1\nG5.3\nM2\n",
+                               "cusp.ngc");
+  ASSERT_TRUE(p.program);
+  app::SimOptions opt;
+  opt.max_time_s = 60;  // it ran for ever before
+  const auto res = app::simulate(*p.program, cfg, opt);
+  ASSERT_TRUE(res.ok) << res.result;
+  const auto sum = report::summarize(*p.program, cfg, res.trace);
+  EXPECT_LT(sum.cycle_time_s, 5);
+  EXPECT_LE(sum.axis[0].max_acc_mm_s2, cfg.axes[0].max_acc_mm_s2 * (1 + 1e-6));
+  EXPECT_LE(sum.axis[0].max_jerk_mm_s3, cfg.axes[0].max_jerk_mm_s3 * (1 + 1e-4));
+  EXPECT_LE(sum.max_path_deviation_mm, 1e-6);
+  // The cusp is an exact stop: the path comes to rest at the turn.
+  double x_max = 0, v_at_max = 1;
+  for (const auto& row : res.trace.rows)
+    if (row.t_s > 1.5 && row.cmd[0] > x_max) x_max = row.cmd[0], v_at_max = row.path_v;
+  EXPECT_LT(v_at_max, 1.0);
+  EXPECT_NEAR(res.trace.rows.back().cmd[0], 266, 1e-9);
+  EXPECT_NEAR(res.trace.rows.back().cmd[1], 200, 1e-9);
+}

@@ -31,6 +31,9 @@ bool finite(const Vec& v) {
 }  // namespace
 
 namespace {
+// Spread of an axis's control points below which it is taken as not moving (rounding; a thousandth
+// of the micrometre the interpolation keeps to).
+constexpr double kFlatAxis_mm = 1e-9;
 // The segment and (estimate) the estimated error of its length table.
 SegmentResult build(std::span<const Vec> ctrl, std::span<const double> weights, double& table_error,
                     bool estimate) {
@@ -42,17 +45,31 @@ SegmentResult build(std::span<const Vec> ctrl, std::span<const double> weights, 
     if (!(std::isfinite(weights[i]) && weights[i] > 0)) return {CurveError::BadWeight, {}};
     if (!finite(ctrl[i])) return {CurveError::BadValue, {}};
   }
+  // An axis whose control points differ by rounding only (a piece split off a curve that keeps
+  // that axis constant: de Casteljau in homogeneous coordinates, and the collapse at a cusp, leave
+  // 1e-14 to 1e-10 mm) does not move: its points are made exactly equal. Counted as moving, near a stationary point of the
+  // curve (|C'| → 0 at a cusp) that rounding turned the tangent and gave curvatures of 1e26/mm,
+  // speed caps of 1e-16 mm/s, and a fuzzer's G5.2 doubling back along X crept there for ever.
+  std::array<Vec, kMaxBezierDegree + 1> p{};
+  for (std::size_t i = 0; i < ctrl.size(); ++i) p[i] = ctrl[i];
+  for (std::size_t a = 0; a < core::kMaxAxes; ++a) {
+    bool flat = true;
+    for (std::size_t i = 1; flat && i < ctrl.size(); ++i)
+      flat = std::abs(p[i][a] - p[0][a]) <= kFlatAxis_mm;
+    if (flat)
+      for (std::size_t i = 1; i < ctrl.size(); ++i) p[i][a] = p[0][a];
+  }
   Segment& s = r.segment;
   s.kind = SegmentKind::Poly;
   s.poly.basis = PolyBasis::Bezier;
   s.poly.degree = static_cast<std::uint8_t>(ctrl.size() - 1);
   for (std::size_t i = 0; i < ctrl.size(); ++i) {
-    s.poly.bez.hctrl[i] = ctrl[i] * weights[i];
+    s.poly.bez.hctrl[i] = p[i] * weights[i];
     s.poly.bez.w[i] = weights[i];
   }
   table_error = s.poly.finalize(estimate);
-  s.start = ctrl.front();  // the end points are interpolated exactly
-  s.end = ctrl.back();
+  s.start = p[0];  // the end points are interpolated exactly
+  s.end = p[ctrl.size() - 1];
   s.length = s.poly.length();
   return r;
 }

@@ -121,6 +121,17 @@ CurveDerivs bezier_derivs(const PolyCurve::BezierData& b, std::size_t n, double 
   d.c = h * iw;
   d.d1 = (h1 - d.c * w1) * iw;
   d.d2 = (h2 - d.d1 * (2 * w1) - d.c * w2) * iw;
+  // An axis the curve does not move has no derivative: the quotient rule leaves the rounding of
+  // p·w there, which near a stationary point (|C'| → 0 at a cusp) turned the tangent off the curve.
+  if (m > 0) {
+    std::array<bool, core::kMaxAxes> moves{};
+    for (std::size_t j = 0; j < m; ++j) moves[ax[j]] = true;
+    for (std::size_t a = 0; a < core::kMaxAxes; ++a)
+      if (!moves[a]) {
+        d.c[a] = b.hctrl[0][a] / b.w[0];
+        d.d1[a] = d.d2[a] = 0;
+      }
+  }
   return d;
 }
 
@@ -338,6 +349,16 @@ double PolyCurve::param_at(double s) const {
   return u;
 }
 
+// rt-safe
+bool stationary(const CurveDerivs& d) {
+  double sp2 = 0, acc2 = 0;
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
+    sp2 += d.d1[i] * d.d1[i];
+    acc2 += d.d2[i] * d.d2[i];
+  }
+  return stationary_speed(sp2, acc2);
+}
+
 // rt-safe. Unit tangent and curvature vector d²C/ds² = (C'' − (C''·T) T) / |C'|² over the axes
 // ax[0 … m) (the others 0: an axis the curve does not move has no derivative). At a stationary point
 // (e.g. G5 with I = J = 0) the tangent is the limit direction of C'' and the curvature is left 0.
@@ -350,12 +371,12 @@ void tangent_curvature(const CurveDerivs& d, const std::size_t* ax, std::size_t 
   t = Vec{};
   k = Vec{};
   const double sp = std::sqrt(sp2);
-  if (sp > 1e-300) {
+  if (!stationary_speed(sp2, acc2)) {
     for (std::size_t j = 0; j < m; ++j) t[ax[j]] = d.d1[ax[j]] * (1.0 / sp);
   } else if (const double ta = std::sqrt(acc2); ta > 0) {
     for (std::size_t j = 0; j < m; ++j) t[ax[j]] = d.d2[ax[j]] * (1.0 / ta);
   }
-  if (!(sp2 > 1e-300)) return;
+  if (stationary_speed(sp2, acc2)) return;
   const double inv = 1.0 / std::sqrt(sp2);
   double along = 0;
   for (std::size_t j = 0; j < m; ++j) along += d.d2[ax[j]] * (d.d1[ax[j]] * inv);
@@ -381,8 +402,11 @@ double PolyCurve::finalize(bool estimate) {
   n_moving = 0;
   for (std::size_t a = 0; a < core::kMaxAxes; ++a) {
     bool moves = basis == PolyBasis::NewtonGraph && (a == newton.x_axis || a == newton.y_axis);
+    // Control points equal up to the rounding of their weighting (p·w_i·w_0 against p·w_0·w_i: a
+    // few ulps) do not move the axis.
     for (std::size_t i = 1; basis == PolyBasis::Bezier && i <= degree; ++i)
-      moves = moves || bez.hctrl[i][a] * bez.w[0] != bez.hctrl[0][a] * bez.w[i];
+      moves = moves || std::abs(bez.hctrl[i][a] * bez.w[0] - bez.hctrl[0][a] * bez.w[i]) >
+                           1e-14 * std::abs(bez.hctrl[0][a] * bez.w[i]);
     if (moves) moving[n_moving++] = a;
   }
   fill_speed2(*this);

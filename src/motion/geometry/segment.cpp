@@ -111,15 +111,8 @@ Vec Segment::point(double s) const {
   return p;
 }
 
-namespace {
-// C' = 0 (a stationary point: tangent_curvature takes the direction of C''). At a curve's end
-// (a piece split at a cusp) the curve arrives against C'': C'(1 − ε) = −ε·C''(1).
-bool stationary(const CurveDerivs& d) {
-  for (std::size_t i = 0; i < core::kMaxAxes; ++i)
-    if (d.d1[i] != 0) return false;
-  return true;
-}
-}  // namespace
+// A stationary point (motion::stationary: tangent_curvature takes the direction of C''). At a
+// curve's end (a piece split at a cusp) the curve arrives against C'': C'(1 − ε) = −ε·C''(1).
 
 // rt-safe
 Vec Segment::tangent(double s) const {
