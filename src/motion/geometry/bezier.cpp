@@ -47,9 +47,10 @@ SegmentResult build(std::span<const Vec> ctrl, std::span<const double> weights, 
   }
   // An axis whose control points differ by rounding only (a piece split off a curve that keeps
   // that axis constant: de Casteljau in homogeneous coordinates, and the collapse at a cusp, leave
-  // 1e-14 to 1e-10 mm) does not move: its points are made exactly equal. Counted as moving, near a stationary point of the
-  // curve (|C'| → 0 at a cusp) that rounding turned the tangent and gave curvatures of 1e26/mm,
-  // speed caps of 1e-16 mm/s, and a fuzzer's G5.2 doubling back along X crept there for ever.
+  // 1e-14 to 1e-10 mm) does not move: its points are made exactly equal. Counted as moving, near a
+  // stationary point of the curve (|C'| → 0 at a cusp) that rounding turned the tangent and gave
+  // curvatures of 1e26/mm, speed caps of 1e-16 mm/s, and a fuzzer's G5.2 doubling back along X
+  // crept there for ever.
   std::array<Vec, kMaxBezierDegree + 1> p{};
   for (std::size_t i = 0; i < ctrl.size(); ++i) p[i] = ctrl[i];
   for (std::size_t a = 0; a < core::kMaxAxes; ++a) {

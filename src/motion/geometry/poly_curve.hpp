@@ -108,13 +108,13 @@ struct PolyCurve {
   double distance_to(const Vec& p) const;
 };
 
-// Unit tangent and curvature vector d²C/ds² from the u-derivatives (rt-safe).
 // |C'|² = sp2 and |C''|² = acc2 at a stationary point: C' zero, or below a billionth of C'' (the
 // rounding of a rational piece whose end leg collapsed at a cusp: 1e-14 mm per unit of u against
 // ~1, whose direction is noise). The tangent is then along ±C''.
 inline bool stationary_speed(double sp2, double acc2) { return !(sp2 > 1e-300) || sp2 <= 1e-18 * acc2; }
 // rt-safe. C' is zero or negligible against C'' there (stationary_speed).
 bool stationary(const CurveDerivs& d);
+// Unit tangent and curvature vector d²C/ds² from the u-derivatives (rt-safe).
 Vec unit_tangent(const CurveDerivs& d);
 Vec curvature_vector(const CurveDerivs& d);
 // Both, over the axes ax[0 … m) only (the others 0): construction samples the axes that move.
