@@ -17,8 +17,18 @@ VelocityRamp plan_ramp(double dist, double v0, double vc, double v1_want, double
   r.s0 = 0;
   r.dist = dist;
   r.v0 = v0;
+  // The planner's passes and this plan reach the same speeds by different roundings, so v0 may lie
+  // a hair of v² above what `acc` brakes to the wanted exit over `dist`. The square root below would
+  // turn that hair into a speed step where the block ends (1e-13 of v² at 4 mm/s: a reversal left
+  // at 1.4e-6 mm/s, 1e-6 over the axis's acceleration in the next cycle). A deceleration higher by
+  // at most kBrakeSlack of itself takes up the hair instead.
+  constexpr double kBrakeSlack = 1e-9;
+  const double v1_target = std::max(0.0, std::min(v1_want, v1_max));
+  const double brake = 2 * acc * dist, over = v0 * v0 - brake - v1_target * v1_target;
+  const bool hair = dist > 0 && over > 0 && over <= kBrakeSlack * brake;
+  if (hair) acc = (v0 * v0 - v1_target * v1_target) / (2 * dist);
   // The exit speeds the distance allows from v0, then the wanted one clamped into them.
-  const double lo = std::sqrt(std::max(0.0, v0 * v0 - 2 * acc * dist));
+  const double lo = hair ? v1_target : std::sqrt(std::max(0.0, v0 * v0 - 2 * acc * dist));
   const double hi = std::sqrt(v0 * v0 + 2 * acc * dist);
   double v1 = std::clamp(std::min(v1_want, v1_max), lo, hi);
   v1 = std::min(v1, std::max(vc, lo));  // never speed up past the cruise speed to leave a block

@@ -3,6 +3,7 @@
 
 #include <random>
 
+#include "motion/interp/velocity_ramp.hpp"
 #include "motion/profile/trapezoid.hpp"
 
 using softmc::motion::plan_trapezoid;
@@ -57,4 +58,29 @@ TEST(Trapezoid, RandomProfilesRespectLimits) {
     EXPECT_NEAR(p->at(p->duration()).s, L, 1e-9 * std::max(1.0, L));
     EXPECT_NEAR(p->at(p->duration()).v, v1, 1e-9 * std::max(1.0, vmax));
   }
+}
+
+// The planner's passes and the interpolator reach a block's entry speed by different roundings: an
+// entry a hair of v² above what the block's deceleration brakes to rest over its length must still
+// end at rest (a reversal left at 1.4e-6 mm/s stepped the speed and broke the acceleration limit by
+// 1e-6 in the next cycle), braking harder only by that hair; a real excess still brakes all the way.
+TEST(VelocityRamp, AnEntryAHairTooFastStillEndsAtTheWantedSpeed) {
+  using softmc::motion::plan_ramp;
+  const double acc = 2022.82657797245, dist = 0.00400519662438767;
+  for (const double v1 : {0.0, 0.5, 2.0}) {
+    for (const double hair : {1e-15, 1e-13, 1e-11}) {
+      const double v0 = std::sqrt((2 * acc * dist + v1 * v1) * (1 + hair));
+      const auto r = plan_ramp(dist, v0, v0, v1, v1, acc);
+      EXPECT_EQ(r.v1, v1) << "v1 " << v1 << " hair " << hair;
+      EXPECT_LE(std::abs(r.a1), acc * (1 + 1e-9));
+      EXPECT_LE(std::abs(r.a3), acc * (1 + 1e-9));
+      EXPECT_NEAR(r.at(r.duration()).s, dist, 1e-15);
+      EXPECT_NEAR(r.at(r.duration() - 1e-12).v, v1, 1e-6);
+    }
+  }
+  // Too fast by a real margin: brakes all the way at `acc` and leaves above the wanted speed.
+  const double v0 = std::sqrt(2 * acc * dist * (1 + 1e-6));
+  const auto r = plan_ramp(dist, v0, v0, 0, 0, acc);
+  EXPECT_GT(r.v1, 1e-3);
+  EXPECT_LE(std::max(std::abs(r.a1), std::abs(r.a3)), acc * (1 + 1e-15));
 }
