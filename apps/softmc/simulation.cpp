@@ -20,6 +20,7 @@ motion::PlannerConfig planner_config(const machine::MachineConfig& cfg) {
   pc.max_feed_override = cfg.planner.max_feed_override;
   pc.merge_share = cfg.planner.merge_share;
   pc.fillet_share = cfg.planner.fillet_share;
+  pc.corner_stop_when_quicker = cfg.planner.corner_stops;
   pc.smoothing_max_turn_rad = cfg.planner.smoothing_turn_deg * std::numbers::pi / 180;
   return pc;
 }

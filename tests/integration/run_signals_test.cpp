@@ -158,8 +158,8 @@ TEST(RunSignals, P5_EmergencyStopBrakesWithTheConfiguredScale) {
 // machine stands on.
 TEST(RunSignals, P5_AStopInABlendOrASmoothedRunIsOnThePathAndNamesItsLine) {
   const auto cfg = machine::default_machine();
-  // 0.93 s: 70 ms before the corner of a G64 P1 blend, stopped inside it.
-  const auto blend = run("0.93 emergency_stop_request 1\n", cfg, "G21 G90 G64 P1\nG1 X100 Y0 F6000\nG1 X100 Y100\nM30\n");
+  // 0.94 s: just before a 30° corner's G64 P1 blend (it begins at X88.86, 0.935 s), stopped inside it.
+  const auto blend = run("0.94 emergency_stop_request 1\n", cfg, "G21 G90 G64 P1\nG1 X100 Y0 F6000\nG1 X200 Y57.735\nM30\n");
   ASSERT_TRUE(blend.res.stopped) << blend.res.result;
   EXPECT_GT(blend.res.trace.rows.back().cmd[1], 0.1);  // past the corner's start: in the blend
   EXPECT_LE(blend.sum.max_path_deviation_mm, 1.0);
@@ -175,7 +175,8 @@ TEST(RunSignals, P5_AStopInABlendOrASmoothedRunIsOnThePathAndNamesItsLine) {
 // 1000 mm/s², 10 000 mm/s³ per axis) brakes harder as it slows: each cycle the spline pieces ahead
 // get the limits their geometry allows at the speed the path has then (Planner::limit_for_stop),
 // instead of the split planned for their top speed. 0.281 s to rest before, 0.189 s now; every
-// limit kept, the stopped position on the path.
+// limit kept, the stopped position on the path. (At 6.81 s: the place it was at 7.3 s before sharp
+// corners became stops, "Blend or stop".)
 TEST(RunSignals, P5_AStopOnASmoothedRunBrakesHarderAsItSlows) {
   auto cfg = machine::default_machine();
   for (const char* a : {"x", "y", "z"}) {
@@ -188,10 +189,10 @@ TEST(RunSignals, P5_AStopOnASmoothedRunBrakesHarderAsItSlows) {
   machine::validate(cfg);
   std::ifstream in(std::string(SOFTMC_SOURCE_DIR) + "/examples/gcode/bench/surfacing.ngc");
   const std::string program((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const auto r = run("7.3 stop_request 1\n", cfg, program);
+  const auto r = run("6.81 stop_request 1\n", cfg, program);
   ASSERT_TRUE(r.res.stopped) << r.res.result;
-  EXPECT_GT(at(r, 7.3).path_v, 40);  // at speed on the spline when the stop came
-  EXPECT_LT(r.sum.cycle_time_s - 7.3, 0.2);
+  EXPECT_GT(at(r, 6.81).path_v, 40);  // at speed on the spline when the stop came
+  EXPECT_LT(r.sum.cycle_time_s - 6.81, 0.2) << r.sum.cycle_time_s;
   expect_within_limits(r, cfg);
   EXPECT_LE(r.sum.max_path_deviation_mm, 0.05);
 }

@@ -46,6 +46,36 @@ void set_limits(Block& b, const SegmentLimits& l, double j, double v_target = 0,
   b.relimit_norm = jerk_norm;
 }
 
+// rt-safe. Least time to cover x mm from speed v0 at zero acceleration, within the acceleration
+// `acc` and the speed vm, ending at the top of the profile (the acceleration back at 0): one side of
+// a corner, from the corner to the middle of its line, for join()'s choice between a blend and a
+// stop. The acceleration rises at j_near (the jerk of what the side starts from) and falls at j_far
+// (∞: no jerk limit). Bisection on the speed gained: bounded, no allocation.
+double side_time(double x, double v0, double vm, double acc, double j_near, double j_far) {
+  if (!(x > 0)) return 0;
+  struct Ramp {
+    double t, s;
+  };
+  const double inv_j = 1 / j_near + 1 / j_far;
+  // The ramp gaining dv: the acceleration up to its peak ap at j_near, held, down at j_far.
+  const auto ramp = [&](double dv) {
+    const double ap = std::min(acc, std::sqrt(2 * dv / inv_j));
+    const double t1 = ap / j_near, t3 = ap / j_far;
+    const double t2 = ap > 0 ? std::max(0.0, dv - 0.5 * ap * ap * inv_j) / ap : 0.0;
+    const double v1 = v0 + 0.5 * ap * t1, v2 = v1 + ap * t2;
+    return Ramp{t1 + t2 + t3, v0 * t1 + ap * t1 * t1 / 6 + v1 * t2 + 0.5 * ap * t2 * t2 + v2 * t3 + ap * t3 * t3 / 3};
+  };
+  const double dv_max = std::max(0.0, vm - v0);
+  const Ramp full = ramp(dv_max);
+  if (full.s <= x) return full.t + (x - full.s) / std::max(vm, v0);
+  double lo = 0, hi = dv_max;
+  for (int k = 0; k < 40; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (ramp(mid).s < x ? lo : hi) = mid;
+  }
+  return ramp(hi).t;
+}
+
 // rt-safe. Largest off(u) over u ∈ (0, 1) — the distance of a blend's point from the curves it
 // joins: samples, then the peak refined between its neighbours (it sits where the nearest of the
 // curves changes, a kink that samples alone miss by up to their spacing).
@@ -701,17 +731,31 @@ void Planner::join(Block& b, double p_mm) {
           }
         }
         if (blend.length > 0) {
-          // A corner so sharp (a return line almost onto its outgoing one) that its blend is
-          // crossed far slower than stopping and going on: 1e-8 mm/s over 2.6e-4 mm took hours of
-          // a review's fuzzing. Taken only while its crossing lasts less than ten times a stop over
-          // its length at the lines' acceleration and jerk; else the corner is a kink (kink()).
+          // Blend or stop: a corner is crossed on its blend only where that is estimated quicker than
+          // stopping on the corner and going on (kink() then makes it a stop). With a jerk limit a
+          // sharp corner's blend is slow (a 90° quintic within P0.05 at 10 000 mm/s³: 3.7 mm/s),
+          // and the path must slow down to it at the blend's lower jerk, then cross it and speed up
+          // again: on zigzags of 1–10 mm lines a stop at each corner was up to 20 % quicker
+          // (docs/planner.md, "Blend or stop"). Each side is timed from the corner to the middle of
+          // its line (where the profiles of the corners at both ends meet) by side_time. The blend's
+          // crossing speed: its cap, and an arc's curvature steps in jerk mode. With
+          // corner_stop_when_quicker off, only a blend crossed far slower than a stop (ten times) is
+          // dropped (a return line almost onto its outgoing one: 1e-8 mm/s over 2.6e-4 mm took hours
+          // of a review's fuzzing).
           double v_eff = blend.v_cap_mm_s;
           if (jerk && blend.is_blend)
             v_eff = std::min(v_eff, std::sqrt(curvature_step_v2(blend.blend.curvature(0), limits_,
                                                                 config_.curvature_step_share)));
           const double acc = std::min(a.a_mm_s2, b.a_mm_s2), jk = std::min(a.j_mm_s3, b.j_mm_s3);
-          const double t_stop = 2 * std::sqrt(blend.length / acc) + (std::isfinite(jk) ? 4 * std::cbrt(blend.length / jk) : 0.0);
-          if (!(blend.length < 10 * t_stop * v_eff)) blend = Block{};
+          const double jb = std::min(jk, blend.j_mm_s3);  // eased into the blend at its own jerk
+          // The speed the lines run at: their feed at 100 % (the override is not known yet).
+          const double vm = std::min({a.rapid && b.rapid ? kInf : std::min(a.feed_mm_s, b.feed_mm_s), a.v_cap_mm_s, b.v_cap_mm_s});
+          const double la = queue_.pending_full_length_ / 2, lb = b.length / 2;
+          const double t_stop = side_time(la, 0, vm, acc, jk, jk) + side_time(lb, 0, vm, acc, jk, jk);
+          const double t_blend = v_eff > 0 ? side_time(la - d, v_eff, vm, acc, jb, jk) + side_time(lb - d, v_eff, vm, acc, jb, jk) +
+                                                 blend.length / v_eff
+                                           : kInf;
+          if (config_.corner_stop_when_quicker ? !(t_blend < t_stop) : !(blend.length / v_eff < 10 * t_stop)) blend = Block{};
         }
         if (blend.length > 0) {
           const Vec corner = a.seg.end;

@@ -65,8 +65,13 @@ struct PlannerConfig {
   // Jerk mode: a corner between two lines turning at least this is blended by a curvature-continuous
   // quintic (make_corner_blend) instead of a circular arc, whose curvature step at each end caps
   // the corner at the speed one cycle's share of jerk allows (docs/planner.md, "Corner blends");
-  // below it the arc is as fast and cheaper to run. ∞: always arcs.
-  double g2_blend_min_rad = 0.1;
+  // below it the arc is as fast and cheaper to run (at 0.1 rad, 5° corners between 10 mm lines
+  // crossed on arcs took 2.5 times as long as on quintics). ∞: always arcs.
+  double g2_blend_min_rad = 0.01;
+  // A corner between two lines is a stop where stopping on it is estimated quicker than crossing
+  // its blend (Planner::join; docs/planner.md, "Blend or stop"). false: every corner that fits a
+  // blend is blended.
+  bool corner_stop_when_quicker = true;
   double g2_blend_gain = 1.5;  // ... where its speed cap is at least this times the arc's corner speed
   // Jerk mode: an arc between two lines it is tangent to (a CAM fillet) is replaced by one quintic
   // from line to line within P of the three (docs/planner.md, "Fillets") where that quintic's speed

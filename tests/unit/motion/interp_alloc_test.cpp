@@ -59,7 +59,9 @@ TEST(InterpAlloc, PushingCornersThatGetQuinticBlendsAllocatesNothing) {
     reqs.push_back(arc);
     at = arc.geom.end;
   }
-  Planner planner(lim, 512);
+  PlannerConfig pc;  // every corner blended (these would be stops: docs/planner.md, "Blend or stop")
+  pc.corner_stop_when_quicker = false;
+  Planner planner(lim, 512, pc);
   const long before = softmc::testing::allocation_count();
   for (const auto& r : reqs) ASSERT_EQ(planner.push(r), PlanResult::Ok);
   planner.flush();
