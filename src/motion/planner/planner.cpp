@@ -752,9 +752,9 @@ void Planner::join(Block& b, double p_mm) {
           const double vm = std::min({a.rapid && b.rapid ? kInf : std::min(a.feed_mm_s, b.feed_mm_s), a.v_cap_mm_s, b.v_cap_mm_s});
           const double la = queue_.pending_full_length_ / 2, lb = b.length / 2;
           const double t_stop = side_time(la, 0, vm, acc, jk, jk) + side_time(lb, 0, vm, acc, jk, jk);
-          const double t_blend = v_eff > 0 ? side_time(la - d, v_eff, vm, acc, jb, jk) + side_time(lb - d, v_eff, vm, acc, jb, jk) +
-                                                 blend.length / v_eff
-                                           : kInf;
+          const double vb = std::min(v_eff, vm);
+          const double t_blend = vb > 0 ? side_time(la - d, vb, vm, acc, jb, jk) + side_time(lb - d, vb, vm, acc, jb, jk) + blend.length / vb
+                                        : kInf;
           if (config_.corner_stop_when_quicker ? !(t_blend < t_stop) : !(blend.length / v_eff < 10 * t_stop)) blend = Block{};
         }
         if (blend.length > 0) {
