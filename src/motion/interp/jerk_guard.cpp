@@ -493,7 +493,7 @@ PathStep JerkGuard::anchored_brake(const ProfileState& now, double a, double j, 
 // the limits of the block the ramp starts in, so its anticipation and jerk never differ). Otherwise
 // Unknown (v then holds the first broken limit as a hint, and v.brake_s the ramp's duration).
 JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Cursor& c, GuardVerdict& v,
-                                   std::size_t* gate) const {
+                                   std::size_t* gate, std::size_t* jerk_gate) const {
   const ProfileState x{0, x0.v, x0.a, 0};
   v.brake_s = kInf;
   if (!(x.v >= 0)) return Cert::Unknown;
@@ -600,14 +600,15 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
       // ramp's distance is not monotonic in J while |a| above A is being brought down, and a lower
       // A narrows π's scan, so a refresh or an entry on the way could end the walk inside it):
       //  - within: the whole group within the ramp's reach as it stands, the entry cursor here:
-      //    the walk enters every block of it too (its least limits), the gate aside (a block below
-      //    half the running least: one by one, as the entry loop finds it);
+      //    the walk enters every block of it too (its least limits), the gates aside (a block below
+      //    half the running least acceleration or jerk: one by one, as the loops find them);
       //  - quiet: no refresh pending and no block in it below the limits so far, its last block
       //    within π's scan: the walk scans it all and changes nothing.
       if (gu2[q] > 0) {
         const double at = (st[ks + G - 1] - base_) - p;
         const bool lower = gacc[q] < a || gjerk[q] < j;
-        const bool within = at <= reach_d && ke == ks && (gacc[q] >= 0.5 * a || !gate || *gate != 0);
+        const bool within = at <= reach_d && ke == ks && (gacc[q] >= 0.5 * a || !gate || *gate != 0) &&
+                            (gjerk[q] >= 0.5 * j || !jerk_gate || *jerk_gate != 0);
         if (within || (!lower && !dirty && at <= reach_d + scan_x)) {
           if (lower) {
             uniform = false;
@@ -637,6 +638,9 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
     const double jk = jerk_k[ks];
     if (acc_k[ks] != a || jk != j) uniform = false;
     if (jk < j) {
+      // A far lower jerk is a gate too, where only π's scan reaches it: a ramp from a hard brake
+      // on a line eased at a short corner's jerk reverses, so the single ramp cannot decide.
+      if (jerk_gate && *jerk_gate == 0 && jk < 0.5 * j) *jerk_gate = ks;
       j = jk;
       dirty = scan_stale = true;
     }
@@ -745,15 +749,18 @@ RampTo ramp_to(const ProfileState& x, double w, double a, double j) {
 // rt-safe. Where the ramp to rest cannot pass a block whose acceleration is far below the ones
 // before it (a short curve between lines: under the jerk limit its tangential acceleration is a
 // fraction of theirs), every ramp to rest with one A would brake at that block's A from far ahead,
-// or stop before it. The gated certificate brakes in two stages instead:
+// or stop before it. Likewise a block whose jerk is far below theirs (the same short curve, 3 000
+// against a line's 10 000 mm/s³): a ramp with that jerk cannot ease a brake taken on the line at the
+// line's jerk without reversing, wherever it would meet the block. The gated certificate brakes in
+// two stages instead:
 //
 //   x ──ramp to w (A1, J1)──► w ── cruise ──┃ gate: block k ──ramp to rest (certify, from w, a = 0)──► 0
 //
 // A1, J1 the least of the blocks before the gate, w the speed the gate block allows at its start;
-// the first ramp must reach w before the gate and keep under every cap and junction up to it, and
-// the second is the certificate from (w, a = 0) one cycle of cruising past the gate (the fallback
-// starts it in the first cycle after the gate; a ramp started earlier on the same blocks is slower
-// everywhere and keeps the same limits). Safe only when both are.
+// the first ramp must reach w before the gate, never below w on the way, and keep under every cap
+// and junction up to it, and the second is the certificate from (w, a = 0) one cycle of cruising
+// past the gate (the fallback starts it in the first cycle after the gate; a ramp started earlier on
+// the same blocks is slower everywhere and keeps the same limits). Safe only when both are.
 JerkGuard::Cert JerkGuard::certify_gated(const ProfileState& x0, double p, const Cursor& c, std::size_t k,
                                          GuardVerdict& v) const {
   const ProfileState x{0, x0.v, x0.a, 0};
@@ -774,7 +781,10 @@ JerkGuard::Cert JerkGuard::certify_gated(const ProfileState& x0, double p, const
   const double w = std::min({x.v, hard(k), soft(k), std::sqrt(u2(k)), cap});
   if (!(w > 0) || !(gate > 0)) return Cert::Unknown;
   const RampTo r = ramp_to(x, w, a1, j1);
-  if (r.v_min < -kAbs || !(r.d * (1 + kRel) + kAbs <= gate) || over(r.v_up, cap)) return Cert::Unknown;
+  // The first stage never below w: from a state braking harder than the ramp to w, that ramp dips
+  // and comes back up to w before the gate. Accepted, such states let the follower ease the brake
+  // at a corner's lower jerk in one cycle and ride the dip to near rest in the next (surfacing.ngc).
+  if (r.v_min < w * (1 - kRel) - kAbs || !(r.d * (1 + kRel) + kAbs <= gate) || over(r.v_up, cap)) return Cert::Unknown;
   // The second stage from one cycle past the gate, inside the gate block.
   const double p2 = start(k) + w * dt_;
   if (!(start(k + 1) > p2 + kTouch_mm)) return Cert::Unknown;
@@ -797,12 +807,17 @@ GuardVerdict JerkGuard::verify(const PathStep& step, const GuardMode& mode) cons
   if (!check(c, 0, v_now_, step, v) || v.failed()) return v;
   if (mode.certify) {
     const GuardVerdict checked = v;
-    std::size_t gate = 0;  // the first block of far lower acceleration the ramp entered (0: none)
-    const Cert r = certify(step.x, step.x.s, c, v, mode.gate ? &gate : nullptr);
+    std::size_t gate = 0;       // the first block of far lower acceleration the ramp entered (0: none)
+    std::size_t jerk_gate = 0;  // the first block of far lower jerk it or π's scan reached (0: none)
+    const Cert r = certify(step.x, step.x.s, c, v, mode.gate ? &gate : nullptr, mode.gate ? &jerk_gate : nullptr);
     if (r != Cert::Unknown) return v;
     if (gate > 0) {
       GuardVerdict g = checked;
       if (certify_gated(step.x, step.x.s, c, gate, g) == Cert::Safe) return g;
+    }
+    if (jerk_gate > 0 && jerk_gate != gate) {
+      GuardVerdict g = checked;
+      if (certify_gated(step.x, step.x.s, c, jerk_gate, g) == Cert::Safe) return g;
     }
     if (!mode.simulate && !(v.brake_s <= mode.simulate_up_to_s)) {  // refused, with the hint of where the ramp breaks a limit
       if (!v.failed()) fail(v, true, 0, 0, false);

@@ -82,8 +82,9 @@ struct GuardVerdict {
   // these limits (0: accepted by simulating π, which is the fallback).
   double cert_a = 0, cert_j = 0;
   // A gated certificate (cert_a2 > 0): the fallback brake first ramps to speed cert_w with
-  // cert_a, cert_j, reached before the block cert_gate_mm ahead (whose acceleration is far lower),
-  // then from there ramps to rest with cert_a2, cert_j2 (JerkGuard::gated_brake).
+  // cert_a, cert_j, reached before the block cert_gate_mm ahead (whose acceleration or jerk is far
+  // lower), never below cert_w on the way, then from there ramps to rest with cert_a2, cert_j2
+  // (JerkGuard::gated_brake).
   double cert_w = 0, cert_gate_mm = 0, cert_a2 = 0, cert_j2 = 0;
   bool simulated = false;  // the verdict needed the simulation of π
   double brake_s = 0;      // the certificate's ramp to rest: its duration (∞ when it has none)
@@ -190,8 +191,10 @@ class JerkGuard {
   bool tail_safe(const ProfileState& x, double p, const Cursor& c) const;
   enum class Cert { Safe, Fails, Unknown };
   // gate (optional): set to the first block the ramp entered whose acceleration is below half the
-  // least before it, when it is still 0.
-  Cert certify(const ProfileState& x, double p, const Cursor& c, GuardVerdict& v, std::size_t* gate = nullptr) const;
+  // least before it, when it is still 0; jerk_gate likewise to the first block the walk scanned
+  // (entered, or only within π's scan) whose jerk is below half the least before it.
+  Cert certify(const ProfileState& x, double p, const Cursor& c, GuardVerdict& v, std::size_t* gate = nullptr,
+               std::size_t* jerk_gate = nullptr) const;
   Cert certify_gated(const ProfileState& x, double p, const Cursor& c, std::size_t gate, GuardVerdict& v) const;
   bool check(Cursor& c, double p0, double v0, const PathStep& st, GuardVerdict& verdict) const;
   double soft_raw(const Block& b) const;  // soft(k) before the front's is relaxed to v_now
