@@ -208,6 +208,24 @@ const Setpoint& Interpolator::step_jerk(double dt) {
       }
     }
   }
+  // Braking while a block ahead allows less jerk than the one the path is in (a short corner after
+  // a line: 3 000 against 10 000 mm/s³): every candidate above eases the brake at that lower j_c,
+  // slower than the path may, and from a hard brake the certificate refuses them (they would
+  // reverse), so the follower rode its fallback brake to near rest before the corner and crept in
+  // (surfacing.ngc: at every pass end). Easing at j_now, the jerk of the blocks this cycle can
+  // reach, is a candidate too, taken when the guard accepts it and it is faster.
+  if (a_ < 0 && j_now > j_c && !refuse) {
+    const PathStep ease = ramp_cycle(now, vt, a_c, j_now, dt);
+    if (ease.x.v > step.x.v) {
+      const GuardVerdict v = guard.verify(ease, mode);
+      ++guard_verifies_;
+      guard_simulations_ += v.simulated ? 1 : 0;
+      if (!v.failed()) {
+        step = ease;
+        taken = v;
+      }
+    }
+  }
   cert_ = taken;
   // The stop plan is kept only while its steps are the ones taken.
   stop_plan_.taken(config_.keep_stop_plan && asked_stop && step.x.s == stop_x.s && step.x.v == stop_x.v &&

@@ -941,7 +941,9 @@ TEST(PlannerJerk, LowAccelerationBlocksAreEnteredAtTheirCapNotFromRest) {
   expect_within(gated, 0.05, "gated");
   expect_within(ramp, 0.05, "one ramp");
   EXPECT_GT(v_gated, 0.9 * cap);
-  EXPECT_LT(v_min, 0.1 * cap);  // without the gate: nearly at rest before the corner
+  // Without the gate: far below the cap before the corner (0.22 of it; < 0.1, nearly at rest, until
+  // the follower eased its brakes at the jerk of the block it is in).
+  EXPECT_LT(v_min, 0.3 * cap);
   EXPECT_LT(gated.cycles, 0.85 * ramp.cycles) << gated.cycles << " vs " << ramp.cycles;
   EXPECT_EQ(gated.end, reqs.back().geom.end);
 }
