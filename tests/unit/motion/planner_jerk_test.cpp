@@ -948,6 +948,53 @@ TEST(PlannerJerk, LowAccelerationBlocksAreEnteredAtTheirCapNotFromRest) {
   EXPECT_EQ(gated.end, reqs.back().geom.end);
 }
 
+// A straight run into a sharp corner (surfacing.ngc's passes start and end so): the line brakes at
+// its jerk (10 000 mm/s³), the corner's quintic allows 3 000 and a few mm/s². Every candidate eased
+// the brake at the corner's jerk, and the guard (certificate and π both taking the jerk of every
+// block in π's scan) refused those states or kept them on a 3 000 ramp to rest: the path stopped
+// just before the quintic (0.0003 mm/s) and crept in at its acceleration, 261 cycles from 1 mm
+// before the corner to 0.1 mm past it. Now the corner is a gate of the certificate when its jerk is
+// far lower (a brake to its cap on the line's limits, then to rest in it), and the follower eases
+// its brake at the jerk of the block it is in: it enters the corner at its cap, in 165 cycles.
+TEST(PlannerJerk, AStraightRunEntersASharpLowJerkCornerAtItsCap) {
+  const auto lim = jerk_limits(100, 1000, 10'000);
+  const core::Vec corner = xyz(0, 0, 0), out = xyz(0.25, 0, 0.137);  // 119° from the run down
+  const core::Vec e = corner + out * (0.15 / core::norm(out));
+  const std::vector<PathRequest> reqs{line_req(xyz(0, 0, 8), corner, 100, 0, 0.05),
+                                      line_req(corner, e, 100, 1, 0.05),
+                                      line_req(e, e + xyz(3, 0, 0), 100, 2, 0.05)};
+  double cap = 0, a_corner = 0, j_corner = 0, j_line = 0;
+  {
+    Planner planner(lim, 16);
+    for (const auto& r : reqs) ASSERT_EQ(planner.push(r), PlanResult::Ok);
+    planner.flush();
+    const auto& ring = planner.queue().ring();
+    ASSERT_GE(ring.size(), 2u);
+    ASSERT_EQ(ring.at(1).seg.kind, SegmentKind::Poly);  // the corner's quintic after the run
+    j_line = ring.at(0).j_mm_s3;
+    cap = ring.at(1).v_cap_mm_s, a_corner = ring.at(1).a_mm_s2, j_corner = ring.at(1).j_mm_s3;
+  }
+  ASSERT_LT(j_corner, 0.5 * j_line);  // what this is about: a far lower jerk ...
+  ASSERT_LT(a_corner, 20);            // ... and acceleration in the corner
+  ASSERT_LT(cap, 2);
+  double v_min = 1e9;  // slowest from 1 mm before the corner until just past it
+  std::uint64_t from = 0, to = 0;
+  const auto hook = [&](std::uint64_t cycle, Interpolator& in) {
+    const auto& p = in.setpoint().pos;
+    if (p[2] < 1 && p[0] < 0.01) v_min = std::min(v_min, in.setpoint().path_v);
+    if (p[2] < 1 && from == 0) from = cycle;
+    if (p[0] > 0.1 && to == 0) to = cycle;
+  };
+  const auto res = run_path(lim, reqs, 16, {}, hook);
+  expect_within(res, 0.05, "a run into a sharp corner");
+  EXPECT_LE(res.block_v_ratio, 1 + 1e-9);  // every block's own limits too
+  EXPECT_LE(res.block_a_ratio, 1 + 1e-6);
+  EXPECT_LE(res.block_j_ratio, 1 + 1e-4);
+  EXPECT_EQ(res.end, reqs.back().geom.end);
+  EXPECT_GT(v_min, 0.9 * cap) << "cap " << cap;       // 0.0003 mm/s before
+  EXPECT_LT(to - from, 200u) << from << " to " << to;  // 261 cycles before
+}
+
 // Approaching an exact stop, the follower's position-mode stop (Otg1's peak-speed search) is solved
 // once and sampled on while it is taken cycle after cycle (StopPlan: the rest of a time-optimal stop
 // is the time-optimal stop from where it has got to): the setpoints are those of solving it every
