@@ -963,9 +963,11 @@ TEST(PlannerJerk, AStraightRunEntersASharpLowJerkCornerAtItsCap) {
   const std::vector<PathRequest> reqs{line_req(xyz(0, 0, 8), corner, 100, 0, 0.05),
                                       line_req(corner, e, 100, 1, 0.05),
                                       line_req(e, e + xyz(3, 0, 0), 100, 2, 0.05)};
+  PlannerConfig blend_all;  // the corner would be a stop ("Blend or stop"): its blend is what is tested
+  blend_all.corner_stop_when_quicker = false;
   double cap = 0, a_corner = 0, j_corner = 0, j_line = 0;
   {
-    Planner planner(lim, 16);
+    Planner planner(lim, 16, blend_all);
     for (const auto& r : reqs) ASSERT_EQ(planner.push(r), PlanResult::Ok);
     planner.flush();
     const auto& ring = planner.queue().ring();
@@ -985,7 +987,7 @@ TEST(PlannerJerk, AStraightRunEntersASharpLowJerkCornerAtItsCap) {
     if (p[2] < 1 && from == 0) from = cycle;
     if (p[0] > 0.1 && to == 0) to = cycle;
   };
-  const auto res = run_path(lim, reqs, 16, {}, hook);
+  const auto res = run_path(lim, reqs, 16, blend_all, hook);
   expect_within(res, 0.05, "a run into a sharp corner");
   EXPECT_LE(res.block_v_ratio, 1 + 1e-9);  // every block's own limits too
   EXPECT_LE(res.block_a_ratio, 1 + 1e-6);
