@@ -48,6 +48,10 @@ struct InterpolatorConfig {
   // the window, and its certificate skips groups that keep every cap (same answers as taking the
   // blocks one by one; false takes them one by one: tests, benchmarks).
   bool guard_index = true;
+  // Jerk mode: the certificate's walk takes its ramp's distance in closed form wherever that
+  // decides (same verdicts, bit-identical setpoints; false builds the ramp at every refresh of the
+  // distance: tests, benchmarks).
+  bool guard_distance_bracket = true;
   // Jerk mode: the guard first tries its certificate, the closed-form ramp to rest with the smallest
   // limits it meets (jerk_guard.hpp), and simulates its brake π only where that cannot decide: with
   // guard_simulate always (planner.jerk_guard_simulate), else only when the ramp lasts at most

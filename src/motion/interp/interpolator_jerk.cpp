@@ -69,6 +69,7 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   // fallback certified when the present state was accepted is always safe from here (its rest is
   // what was checked), so one cycle of it is the last resort.
   scratch_.groups = config_.guard_index;
+  scratch_.bracket = config_.guard_distance_bracket;
   const JerkGuard guard(ring, n, s_, v_, dt, scale, h, rule_, scratch_);
   GuardMode mode;
   mode.closed_form = config_.guard_closed_form;

@@ -173,6 +173,23 @@ struct BrakeRamp {
     return d_stop;
   }
 };
+
+// BrakeRamp(x, a, j).d_stop for x.v ≥ 0 and x.a ≥ 0 (a, j > 0, finite) in closed form, up to
+// rounding: a few operations where building the ramp's phases costs about 370 instructions. From
+// x.a ≥ 0 the ramp runs at jerk −j until a has fallen through 0 (phase 0 and the first phase join):
+// the rise to its peak speed w = v + a0²/2j over v·t + a0·t²/3 (t = a0/j), then the ramp to rest
+// from (w, 0), symmetric in speed about its middle, so w times half its duration: w·(w/a + a/j)/2
+// where it reaches a (w·j ≥ a²), else w·√(w/j).
+double brake_distance_rising(const ProfileState& x, double a, double j) {
+  const double t = x.a / j;
+  const double w = x.v + 0.5 * x.a * t;
+  const double rise = t * (x.v + x.a * t / 3);
+  const double fall = w * j >= a * a ? 0.5 * w * (w / a + a / j) : w * std::sqrt(w / j);
+  return rise + fall;
+}
+// The half-width of the bracket the certificate puts around it, relative: the two roundings differ
+// by at most 1.1e-15 of the distance over the jerk benchmarks and test suites (phase 0 included).
+constexpr double kClosedFormRel = 1e-9;
 }  // namespace
 
 // rt-safe
@@ -501,16 +518,65 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   const auto clear = [](double d_need, double d_have) { return d_need * (1 + kRel) + kAbs <= d_have; };
   double a = acc(c.k), j = jerk(c.k);
   BrakeRamp r;  // the ramp with the present (a, j), kept for the check below
+  bool r_built = false;
+  double r_a = 0, r_j = 0;  // the limits r was built with
   const auto distance = [&] {
     if (!(j > 0) || !std::isfinite(j) || !(a > 0)) return -1.0;
     // Braking too hard already: it would reverse (by more than check() lets pass; a position-mode
     // stop ends exactly on v = a²/2J, up to rounding).
     if (x.a < 0 && x.v < x.a * x.a / (2 * j) - kAbs) return -1.0;
     r.build(x, a, j);  // |x.a| above a: first brought down to it at j
+    r_built = true;
+    r_a = a;
+    r_j = j;
     return r.d_stop;
   };
-  double d = distance();
-  if (!(d >= 0)) {  // no ramp: about how long a brake would last, for verify()'s choice to simulate
+  // The ramp's reach, reach(d), as of the limits of the last refresh (a_r, j_r): bracketed by
+  // reach_lo ≤ reach(d) ≤ reach_hi. From x.a ≥ 0 a refresh takes the distance in closed form
+  // (brake_distance_rising), a bracket a few ppb wide: a test it decides is decided as the ramp's
+  // own distance would decide it, and only a block inside it builds the ramp (`sharpen`), closing
+  // the bracket on reach(d). So every pass, stop, group and refresh of the walk below is the one
+  // the built ramp gives, and the ramp is built once, at the end, for the limits the walk ends with
+  // (instead of at the start and at each refresh: 5–6 times a walk on smoothed paths). From x.a < 0
+  // every refresh builds it (the closed form would need phase 0's cases).
+  const bool closed_form = g_.bracket && x.a >= 0;
+  double a_r = a, j_r = j;
+  double reach_lo = 0, reach_hi = 0;
+  bool dirty = false;  // a or j lowered since the last refresh
+  // (refresh inlined: called out of line, its calls cost more than the ramps it saves on blended
+  // paths, about +120 instructions a cycle.)
+  const auto refresh = [&]() __attribute__((always_inline)) {  // false: no ramp any more
+    dirty = false;
+    a_r = a;
+    j_r = j;
+    if (closed_form && j > 0 && std::isfinite(j) && a > 0) {
+      const double dc = brake_distance_rising(x, a, j);
+      if (dc > 0) {  // (at rest, dc = 0, the ramp is built: a relative bracket is no bracket there)
+        reach_lo = reach(dc * (1 - kClosedFormRel));
+        reach_hi = reach(dc * (1 + kClosedFormRel));
+        return true;
+      }
+    }
+    const double d = distance();
+    if (!(d >= 0)) return false;
+    reach_lo = reach_hi = reach(d);
+    return true;
+  };
+  const auto sharpen = [&] {  // the bracket closed on reach(d) (valid limits, x.a ≥ 0: d > 0)
+    r.build(x, a_r, j_r);
+    r_built = true;
+    r_a = a_r;
+    r_j = j_r;
+    reach_lo = reach_hi = reach(r.d_stop);
+  };
+  // `at` ≤ reach(d) + extra, as the built ramp would answer it.
+  const auto reached = [&](double at, double extra) {
+    if (at <= reach_lo + extra) return true;
+    if (!(at <= reach_hi + extra)) return false;
+    sharpen();
+    return at <= reach_lo + extra;
+  };
+  if (!refresh()) {  // no ramp: about how long a brake would last, for verify()'s choice to simulate
     v.brake_s = std::abs(x.a) / j + 2 * std::sqrt(std::max(0.0, x.v) / j) + std::max(0.0, x.v) / a;
     return Cert::Unknown;
   }
@@ -528,9 +594,10 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   // limit lengthens the ramp (but for a lower J while |a| above A is brought down: it keeps the
   // stronger deceleration longer), and both cursors go on from where they are.
   // The ramp's distance is brought up to date (`refresh`) only where the walk would otherwise stop:
-  // one ramp per extension of the walk, not one per block. reach_d = reach(d) and scan_x = scan()
-  // as of the present limits. A whole group of 8 (g.groups) is taken at once only where block by
-  // block the walk would go through it without a refresh and end the same, its least limits taken
+  // one distance per extension of the walk, not one per block. reached(at, 0) tests `at` against
+  // the ramp's reach as of the last refresh, scan_x = scan() as of the present limits. A whole
+  // group of 8 (g.groups) is taken at once only where block by block the walk would go through it
+  // without a refresh and end the same, its least limits taken
   // as block after block would take them (a review's differential fuzzer found the cases where
   // refreshing early, or entering on the way, changed the verdict:
   // PlannerJerk.CertificateGroupsGiveTheBlockByBlockVerdict).
@@ -550,16 +617,8 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   const double* const st = g.start.data() + o_;  // block k's start from now: st[k] − base_, once indexed
   const std::size_t o = o_;
   std::size_t ks = c.k + 1, ke = c.k + 1;
-  bool dirty = false;
-  double reach_d = reach(d), scan_x = scan(a, j);
+  double scan_x = scan(a, j);
   bool scan_stale = false;
-  const auto refresh = [&] {  // false: no ramp any more
-    dirty = false;
-    d = distance();
-    if (!(d >= 0)) return false;
-    reach_d = reach(d);
-    return true;
-  };
   for (;; ++ks) {
     // Enter the blocks ke < ks (indexed: the scan has read them) that the ramp reaches.
     while (ke < ks) {
@@ -569,7 +628,7 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
       if (groups && (o + ke) % G == 0 && ke + G <= ks &&
           (gacc[(o + ke) / G] >= 0.5 * a || !gate || *gate != 0)) {
         const double at = (st[ke + G - 1] - base_) - p;
-        if (at <= reach_d) {
+        if (reached(at, 0)) {
           if (gacc[(o + ke) / G] < a) {
             a = gacc[(o + ke) / G];
             dirty = scan_stale = true;
@@ -579,10 +638,10 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
         }
       }
       const double at = (st[ke] - base_) - p;
-      if (!(at <= reach_d)) {
+      if (!reached(at, 0)) {
         if (!dirty) break;
         if (!refresh()) return Cert::Unknown;
-        if (!(at <= reach_d)) break;
+        if (!reached(at, 0)) break;
       }
       const double ak = acc_k[ke];
       if (ak < a) {
@@ -607,9 +666,9 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
       if (gu2[q] > 0) {
         const double at = (st[ks + G - 1] - base_) - p;
         const bool lower = gacc[q] < a || gjerk[q] < j;
-        const bool within = at <= reach_d && ke == ks && (gacc[q] >= 0.5 * a || !gate || *gate != 0) &&
-                            (gjerk[q] >= 0.5 * j || !jerk_gate || *jerk_gate != 0);
-        if (within || (!lower && !dirty && at <= reach_d + scan_x)) {
+        const bool within = ke == ks && (gacc[q] >= 0.5 * a || !gate || *gate != 0) &&
+                            (gjerk[q] >= 0.5 * j || !jerk_gate || *jerk_gate != 0) && reached(at, 0);
+        if (within || (!lower && !dirty && reached(at, scan_x))) {
           if (lower) {
             uniform = false;
             a = std::min(a, gacc[q]);
@@ -626,10 +685,10 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
     }
     if (ks >= built()) index_through(ks);  // its start, and its limits when it is inside the window
     const double ss = (st[ks] - base_) - p;
-    if (!(ss <= reach_d + scan_x)) {
+    if (!reached(ss, scan_x)) {
       if (!dirty) break;
       if (!refresh()) return Cert::Unknown;
-      if (!(ss <= reach_d + scan_x)) break;
+      if (!reached(ss, scan_x)) break;
     }
     if (ks >= n_ || u2_k[ks] <= 0) {
       stop_at = ss;
@@ -650,10 +709,10 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   // +16 % instructions per smoothed cycle).
   while (ke < ks) {
     const double at = (st[ke] - base_) - p;
-    if (!(at <= reach_d)) {
+    if (!reached(at, 0)) {
       if (!dirty) break;
       if (!refresh()) return Cert::Unknown;
-      if (!(at <= reach_d)) break;
+      if (!reached(at, 0)) break;
     }
     if (acc_k[ke] < a) {
       if (gate && *gate == 0 && acc_k[ke] < 0.5 * a) *gate = ke;
@@ -662,7 +721,9 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
     }
     ++ke;
   }
-  if (dirty && !((d = distance()) >= 0)) return Cert::Unknown;
+  // The ramp of the limits the walk ends with (built already where the last refresh or a bracket
+  // built it for them; distance() refuses the limits a refresh would have refused).
+  if (!(r_built && r_a == a && r_j == j) && !(distance() >= 0)) return Cert::Unknown;
   v.brake_s = r.dur[0] + r.dur[1] + r.dur[2] + r.dur[3];
   const auto broken = [&](bool hard, double at, double u, bool stop) {
     fail(v, hard, p + at, u, stop);  // the simulation's answer when uniform, else a hint

@@ -121,6 +121,10 @@ struct GuardScratch {
   std::vector<std::size_t> stops;                        // positions in the index, rising
   std::size_t cap;
   bool groups = true;
+  // The certificate's walk tests blocks against its ramp's distance in closed form, bracketed, and
+  // builds the ramp only where a block falls inside the bracket and once at the end (same verdicts;
+  // false builds it at every refresh of the distance: the reference for tests).
+  bool bracket = true;
   std::uint64_t groups_skipped = 0;  // by the certificate, since construction
   std::uint64_t blocks_indexed = 0;  // since construction
   // What the index was built for, and how far: positions [origin, built) are indexed, the front

@@ -364,18 +364,20 @@ void expect_same_verdict(const GuardVerdict& a, const GuardVerdict& b, bool near
   EXPECT_EQ(a.cert_j2, b.cert_j2) << what;
   EXPECT_TRUE(close(a.brake_s, b.brake_s)) << what << ": " << a.brake_s << " vs " << b.brake_s;
 }
-// The verdict on `step` over `blocks` (the first `n` the window), block by block, with groups, and
-// with groups from an index kept through `origin` pops (the same blocks at other positions).
+// The verdict on `step` over `blocks` (the first `n` the window), block by block, with groups, with
+// groups from an index kept through `origin` pops (the same blocks at other positions), and with
+// groups and the ramp built at every refresh of its distance (GuardScratch::bracket = false).
 void expect_group_verdicts(const std::vector<Block>& blocks, std::size_t n, double s_front, double v_now,
                            const PathStep& step, std::size_t origin, const std::string& what) {
   GuardMode mode;
   mode.certify = true;
   mode.simulate = false;
-  GuardVerdict v[3];
-  for (int variant = 0; variant < 3; ++variant) {
+  GuardVerdict v[4];
+  for (int variant = 0; variant < 4; ++variant) {
     core::Ring<Block> ring(256);
     GuardScratch scratch(256);
     scratch.groups = variant != 0;
+    scratch.bracket = variant != 3;
     if (variant == 2) {
       for (std::size_t i = 0; i < origin; ++i) ring.push(blocks.front());
       for (const auto& b : blocks) ring.push(b);
@@ -390,6 +392,7 @@ void expect_group_verdicts(const std::vector<Block>& blocks, std::size_t n, doub
   }
   expect_same_verdict(v[0], v[1], false, what + ", groups");
   expect_same_verdict(v[0], v[2], true, what + ", groups, index kept through pops");
+  expect_same_verdict(v[1], v[3], false, what + ", ramp built at every refresh");
 }
 }  // namespace
 
@@ -436,6 +439,31 @@ TEST(PlannerJerk, CertificateGroupsGiveTheBlockByBlockVerdict) {
     step.x = {0.016369870857921708, 16.340888609817178, -86.946744313588354, 0};
     expect_group_verdicts(b, b.size(), 0.24975768181161045, 16.384361981973971, step, 43, "braking harder than A");
   }
+  {  // A block of lower acceleration starting on the ramp's reach, and a few ulps either side: the
+     // closed-form distance's bracket holds it, so the walk builds the ramp to decide whether the
+     // ramp enters it (GuardScratch::bracket), as it does at every refresh without the bracket.
+    const PathStep step = jerk_cycle({0, 40, 100, 0}, 0, 0.001);
+    const double reach = JerkGuard::brake_distance(step.x, 2000, 10000) * (1 + 1e-9) + 1e-9 + 1e-12;  // certify's reach(d)
+    double first_a = 0;
+    bool both = false;
+    double len = std::nextafter(reach + step.x.s, 0.0);
+    for (int i = 0; i < 6; ++i) len = std::nextafter(len, 0.0);
+    for (int i = 0; i < 14; ++i, len = std::nextafter(len, inf)) {
+      std::vector<Block> b{guard_block(len, 2000, 10000, 100, 100, 1e4), guard_block(0.5, 1000, 10000, 100, 100, 1e4)};
+      for (int k = 0; k < 40; ++k) b.push_back(guard_block(0.5, 2000, 10000, 100, 100, 1e4));
+      expect_group_verdicts(b, b.size(), 0, 40, step, 0, "on the reach, " + std::to_string(i));
+      core::Ring<Block> ring(256);
+      GuardScratch scratch(256);
+      for (const auto& x : b) ring.push(x);
+      GuardMode mode;
+      mode.certify = true;
+      mode.simulate = false;
+      const GuardVerdict v = JerkGuard(ring, ring.size(), 0, 40, 0.001, 1, false, 1, scratch).verify(step, mode);
+      if (i == 0) first_a = v.cert_a;
+      both = both || v.cert_a != first_a;
+    }
+    EXPECT_TRUE(both) << "the block's start never crossed the ramp's reach";
+  }
   // Seeded random windows: a few values of acceleration and jerk (as smoothed paths have), short
   // and long blocks, exact stops, states accelerating or braking beyond A.
   std::mt19937_64 rng(20261202);
@@ -468,8 +496,9 @@ TEST(PlannerJerk, CertificateGroupSkipsGiveTheSameSetpoints) {
   std::vector<PathRequest> reqs;
   for (const auto& line : out)
     for (const auto& seg : line) reqs.push_back({seg, 150, false, static_cast<std::uint32_t>(reqs.size())});
-  InterpolatorConfig groups, one_by_one;
+  InterpolatorConfig groups, one_by_one, built;
   one_by_one.guard_index = false;
+  built.guard_distance_bracket = false;
   std::uint64_t skipped = 0, skipped_off = 0;
   run_path(lim, reqs, 256, {}, [&](std::uint64_t, Interpolator& in) { skipped = in.guard_groups_skipped(); },
            20'000'000, groups);
@@ -478,6 +507,9 @@ TEST(PlannerJerk, CertificateGroupSkipsGiveTheSameSetpoints) {
   EXPECT_GT(skipped, 1000u);
   EXPECT_EQ(skipped_off, 0u);
   expect_identical_runs(lim, reqs, groups, one_by_one, 0);
+  // The same with the certificate's ramp built at every refresh of its distance instead of taken
+  // in closed form where that decides.
+  expect_identical_runs(lim, reqs, groups, built, 0);
 }
 
 // The guard's certificate (jerk_guard.hpp): on a smoothed CAM curve (the Channel's default for a
