@@ -322,15 +322,6 @@ double JerkGuard::jerk_min(std::size_t from, double p, double d, double j) const
   return j;
 }
 
-double JerkGuard::acc(std::size_t k) const { return need(k).acc[o_ + k]; }
-
-double JerkGuard::jerk(std::size_t k) const { return need(k).jerk[o_ + k]; }
-
-double JerkGuard::soft(std::size_t k) const {
-  const double s = need(k).soft[o_ + k];
-  return k == 0 ? std::max(s, v_now_) : s;  // already faster (the override dropped): only the ramp down is asked
-}
-
 double JerkGuard::soft_raw(const Block& b) const {
   if (halt_) return kInf;
   // v_split_mm_s: a block without a jerk limit keeps a_mm_s2 only up to there (Block).

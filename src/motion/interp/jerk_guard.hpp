@@ -181,9 +181,13 @@ class JerkGuard {
 
   // What the guard holds block k (< n) to: acceleration and jerk (scaled), the speed the feed and
   // override ask for (the front's relaxed to the present speed), read from the index.
-  double acc(std::size_t k) const;
-  double jerk(std::size_t k) const;
-  double soft(std::size_t k) const;
+  // (Inline: the certificate asks them of every block its ramp enters.)
+  double acc(std::size_t k) const { return need(k).acc[o_ + k]; }
+  double jerk(std::size_t k) const { return need(k).jerk[o_ + k]; }
+  double soft(std::size_t k) const {
+    const double s = need(k).soft[o_ + k];
+    return k == 0 ? std::max(s, v_now_) : s;  // already faster (the override dropped): only the ramp down is asked
+  }
   // Block k's start (k ≤ n) from now, as every check reads it.
   double start_of(std::size_t k) const { return start(k); }
 
