@@ -6,7 +6,7 @@
 #   bench/cycle_instructions.sh [BENCH_BINARY ...]      (default: build/bench/softmc_bench)
 #
 # For each binary and each benchmark: Interpolator::step's inclusive instructions ÷ the fixed cycle
-# count the benchmark runs (BM_JerkCycle4Axes: 300 000, BM_JerkCycleSmoothed4Axes: 50 000), with the
+# count the benchmark runs (BM_JerkCycle4Axes and BM_JerkCycleArcs4Axes: 300 000, BM_JerkCycleSmoothed4Axes: 50 000), with the
 # largest callees of the cycle. Needs valgrind (Debian package valgrind). Each run takes ~10 s.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
@@ -18,7 +18,7 @@ trap 'rm -rf "$work"' EXIT
 for bin in "$@"; do
   [ -x "$bin" ] || { echo "cycle_instructions: no $bin" >&2; exit 1; }
   echo "== $bin"
-  for spec in "JerkCycle4Axes/3:300000" "JerkCycleSmoothed4Axes/3:50000"; do
+  for spec in "JerkCycle4Axes/3:300000" "JerkCycleArcs4Axes/3:300000" "JerkCycleSmoothed4Axes/3:50000"; do
     filter="${spec%%:*}"
     cycles="${spec##*:}"
     valgrind --tool=callgrind --callgrind-out-file="$work/cg.out" "$bin" --benchmark_filter="^BM_$filter" \

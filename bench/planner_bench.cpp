@@ -162,10 +162,11 @@ static motion::InterpolatorConfig guard_mode(std::int64_t mode) {
 }
 
 // Steps the interpolator in jerk mode over `reqs`, pushed round and round (refilled outside the timing).
-static void jerk_cycles(benchmark::State& state, const std::vector<motion::PathRequest>& reqs) {
+static void jerk_cycles(benchmark::State& state, const std::vector<motion::PathRequest>& reqs,
+                        const motion::PlannerConfig& pc = {}) {
   auto lim = xyz();
   for (int i : {0, 1, 2, 6}) lim.axis[static_cast<std::size_t>(i)].j_max_mm_s3 = 10'000;
-  motion::Planner planner(lim, 4096);
+  motion::Planner planner(lim, 4096, pc);
   motion::Interpolator in(planner.queue(), reqs.front().geom.start, guard_mode(state.range(0)));
   std::size_t k = 0;
   const auto refill = [&] {
@@ -190,11 +191,21 @@ static void jerk_cycles(benchmark::State& state, const std::vector<motion::PathR
 // One jerk-mode interpolation cycle (S-curve path speed with the JerkGuard's verified brake) over a
 // blended CAM-like polyline (0.5 mm chords, 4 axes), jerk 10 000 mm/s³ per axis. The cycles include
 // the ramps at the start, so acceleration, cruise and the brake checks at the window's end all take
-// their share. Arg: the guard mode (guard_mode above).
+// their share. Its 0.57° corners are quintics since stop 21 (PlannerConfig::g2_blend_min_rad 0.01;
+// mean path speed 53 mm/s, 11.9 on the arcs before). Arg: the guard mode (guard_mode above).
 static void BM_JerkCycle4Axes(benchmark::State& state) { jerk_cycles(state, polyline(0.5)); }
 // A fixed number of cycles: every run covers the same stretch of the path (starting ramps, cruise,
 // laps), so runs and binaries compare like for like, also under `valgrind --tool=callgrind`.
 BENCHMARK(BM_JerkCycle4Axes)->DenseRange(0, 3)->Iterations(300'000);
+
+// The same polyline with its corners blended by arcs only (what BM_JerkCycle4Axes measured until
+// stop 21): lines and arcs, no Poly piece. Arg: the guard mode.
+static void BM_JerkCycleArcs4Axes(benchmark::State& state) {
+  motion::PlannerConfig pc;
+  pc.g2_blend_min_rad = 1e9;
+  jerk_cycles(state, polyline(0.5), pc);
+}
+BENCHMARK(BM_JerkCycleArcs4Axes)->DenseRange(0, 3)->Iterations(300'000);
 
 // The same cycle on the same polyline smoothed as the Channel does by default on a jerk-limited
 // machine (polyline_smoothing.hpp: one C² B-spline lap of Poly pieces). Arg: the guard mode.
