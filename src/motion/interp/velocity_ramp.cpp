@@ -24,9 +24,10 @@ VelocityRamp plan_ramp(double dist, double v0, double vc, double v1_want, double
   // at most kBrakeSlack of itself takes up the hair instead.
   constexpr double kBrakeSlack = 1e-9;
   const double v1_target = std::max(0.0, std::min(v1_want, v1_max));
-  const double brake = 2 * acc * dist, over = v0 * v0 - brake - v1_target * v1_target;
-  const bool hair = dist > 0 && over > 0 && over <= kBrakeSlack * brake;
-  if (hair) acc = (v0 * v0 - v1_target * v1_target) / (2 * dist);
+  const double over = v0 * v0 - 2 * acc * dist - v1_target * v1_target;
+  const double acc_exact = dist > 0 ? (v0 * v0 - v1_target * v1_target) / (2 * dist) : 0.0;
+  const bool hair = dist > 0 && over > 0 && acc_exact <= acc * (1 + kBrakeSlack);
+  if (hair) acc = acc_exact;
   // The exit speeds the distance allows from v0, then the wanted one clamped into them.
   const double lo = hair ? v1_target : std::sqrt(std::max(0.0, v0 * v0 - 2 * acc * dist));
   const double hi = std::sqrt(v0 * v0 + 2 * acc * dist);

@@ -59,7 +59,7 @@ double side_time(double x, double v0, double vm, double acc, double j_near, doub
   const double inv_j = 1 / j_near + 1 / j_far;
   // The ramp gaining dv: the acceleration up to its peak ap at j_near, held, down at j_far.
   const auto ramp = [&](double dv) {
-    const double ap = std::min(acc, std::sqrt(2 * dv / inv_j));
+    const double ap = dv > 0 ? std::min(acc, std::sqrt(2 * dv / inv_j)) : 0.0;
     const double t1 = ap / j_near, t3 = ap / j_far;
     const double t2 = ap > 0 ? std::max(0.0, dv - 0.5 * ap * ap * inv_j) / ap : 0.0;
     const double v1 = v0 + 0.5 * ap * t1, v2 = v1 + ap * t2;
@@ -739,26 +739,30 @@ void Planner::join(Block& b, double p_mm) {
           // (docs/planner.md, "Blend or stop"). Each side is timed from the corner to the middle of
           // its line (where the profiles of the corners at both ends meet) by side_time. The blend's
           // crossing speed: its cap, and an arc's curvature steps in jerk mode. With
-          // corner_stop_when_quicker off, only a blend crossed far slower than a stop (ten times) is
-          // dropped (a return line almost onto its outgoing one: 1e-8 mm/s over 2.6e-4 mm took hours
-          // of a review's fuzzing).
+          // corner_stop_when_quicker off, only a blend whose crossing lasts ten times a stop over its
+          // own length is dropped, as before the choice (a return line almost onto its outgoing one:
+          // 1e-8 mm/s over 2.6e-4 mm took hours of a review's fuzzing).
           double v_eff = blend.v_cap_mm_s;
           if (jerk && blend.is_blend)
             v_eff = std::min(v_eff, std::sqrt(curvature_step_v2(blend.blend.curvature(0), limits_,
                                                                 config_.curvature_step_share)));
           const double acc = std::min(a.a_mm_s2, b.a_mm_s2), jk = std::min(a.j_mm_s3, b.j_mm_s3);
           const double jb = std::min(jk, blend.j_mm_s3);  // eased into the blend at its own jerk
-          // The speed the lines run at: their feed at 100 % (the override is not known yet).
-          const double vm = std::min({a.rapid && b.rapid ? kInf : std::min(a.feed_mm_s, b.feed_mm_s), a.v_cap_mm_s, b.v_cap_mm_s});
-          // A blend crossed at the lines' speed is always the quicker (and most are: CAM polylines'
-          // slight turns, which cost no estimate then).
-          if (!(v_eff >= vm)) {
+          // The speed the lines run at: their feed at 100 % (the override is not known yet; rapids
+          // carry an infinite feed, so their caps).
+          const double vm = std::min({a.feed_mm_s, b.feed_mm_s, a.v_cap_mm_s, b.v_cap_mm_s});
+          if (!config_.corner_stop_when_quicker) {
+            const double t_stop = 2 * std::sqrt(blend.length / acc) + (std::isfinite(jk) ? 4 * std::cbrt(blend.length / jk) : 0.0);
+            if (!(blend.length < 10 * t_stop * v_eff)) blend = Block{};
+          } else if (!(v_eff >= vm)) {
+            // A blend crossed at the lines' speed is always the quicker (and most are: CAM
+            // polylines' slight turns, which cost no estimate then).
             const double la = queue_.pending_full_length_ / 2, lb = b.length / 2;
             const double t_stop = side_time(la, 0, vm, acc, jk, jk) + side_time(lb, 0, vm, acc, jk, jk);
             const double t_blend = v_eff > 0 ? side_time(la - d, v_eff, vm, acc, jb, jk) + side_time(lb - d, v_eff, vm, acc, jb, jk) +
                                                    blend.length / v_eff
                                              : kInf;
-            if (config_.corner_stop_when_quicker ? !(t_blend < t_stop) : !(blend.length / v_eff < 10 * t_stop)) blend = Block{};
+            if (!(t_blend < t_stop)) blend = Block{};
           }
         }
         if (blend.length > 0) {
