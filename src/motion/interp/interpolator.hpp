@@ -63,6 +63,12 @@ struct InterpolatorConfig {
   // Jerk mode: where the certificate cannot decide, its gated form (two ramps: to the speed a block
   // of far lower acceleration allows at its start, then to rest from there; jerk_guard.cpp) first.
   bool guard_gate = true;
+  // ... with a block of far lower jerk (half the least before it) as a gate too, where the plain
+  // certificate's ramp or π's scan reaches one (false: acceleration gates only; tests).
+  bool guard_jerk_gate = true;
+  // Jerk mode: while braking towards blocks of far lower jerk, a candidate that eases the brake at
+  // the jerk of the blocks this cycle reaches (false: only at the least jerk ahead; tests).
+  bool ease_brake = true;
   // Tests: from this jerk-mode cycle on every candidate is refused, so the fallback brake certified
   // last (plain or gated) runs to rest and its limits show on the trace (−1: never).
   long long guard_refuse_from_cycle = -1;

@@ -77,6 +77,7 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   mode.simulate = config_.guard_simulate;
   mode.simulate_up_to_s = config_.guard_short_brake_cycles * dt;
   mode.gate = config_.guard_gate;
+  mode.jerk_gate = config_.guard_jerk_gate;
   PathStep step = ramp_cycle(now, vt, a_c, j_c, dt);
   const bool refuse = config_.guard_refuse_from_cycle >= 0 &&
                       jerk_cycles_ >= static_cast<std::uint64_t>(config_.guard_refuse_from_cycle);
@@ -220,7 +221,7 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   // jerk ahead is far lower (below half, as the certificate's jerk gate): tried wherever it is
   // lower, the extra check cost 10.7 % more instructions per blended cycle (BM_JerkCycle4Axes/3)
   // for 0.56 % on pocket.ngc and 0.21 % on 3D_Chips.
-  if (a_ < 0 && j_now > 2 * j_c && !refuse) {
+  if (config_.ease_brake && a_ < 0 && j_now > 2 * j_c && !refuse) {
     const PathStep ease = ramp_cycle(now, vt, a_c, j_now, dt);
     if (ease.x.v > step.x.v) take_if_safe(ease);
   }

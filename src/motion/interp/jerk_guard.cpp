@@ -555,6 +555,7 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
     return true;
   };
   const auto sharpen = [&] {  // the bracket closed on reach(d) (valid limits, x.a ≥ 0: d > 0)
+    ++g_.sharpened;
     r.build(x, a_r, j_r);
     r_built = true;
     r_a = a_r;
@@ -862,15 +863,11 @@ GuardVerdict JerkGuard::verify(const PathStep& step, const GuardMode& mode) cons
     const GuardVerdict checked = v;
     std::size_t gate = 0;       // the first block of far lower acceleration the ramp entered (0: none)
     std::size_t jerk_gate = 0;  // the first block of far lower jerk it or π's scan reached (0: none)
-    const Cert r = certify(step.x, step.x.s, c, v, mode.gate ? &gate : nullptr, mode.gate ? &jerk_gate : nullptr);
+    const Cert r = certify(step.x, step.x.s, c, v, mode.gate ? &gate : nullptr, mode.gate && mode.jerk_gate ? &jerk_gate : nullptr);
     if (r != Cert::Unknown) return v;
-    if (gate > 0) {
+    for (const std::size_t k : {gate, jerk_gate != gate ? jerk_gate : 0}) {
       GuardVerdict g = checked;
-      if (certify_gated(step.x, step.x.s, c, gate, g) == Cert::Safe) return g;
-    }
-    if (jerk_gate > 0 && jerk_gate != gate) {
-      GuardVerdict g = checked;
-      if (certify_gated(step.x, step.x.s, c, jerk_gate, g) == Cert::Safe) return g;
+      if (k > 0 && certify_gated(step.x, step.x.s, c, k, g) == Cert::Safe) return g;
     }
     if (!mode.simulate && !(v.brake_s <= mode.simulate_up_to_s)) {  // refused, with the hint of where the ramp breaks a limit
       if (!v.failed()) fail(v, true, 0, 0, false);

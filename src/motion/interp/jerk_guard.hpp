@@ -126,6 +126,7 @@ struct GuardScratch {
   // false builds it at every refresh of the distance: the reference for tests).
   bool bracket = true;
   std::uint64_t groups_skipped = 0;  // by the certificate, since construction
+  std::uint64_t sharpened = 0;       // ramps the certificate built for a block inside its bracket
   std::uint64_t blocks_indexed = 0;  // since construction
   // What the index was built for, and how far: positions [origin, built) are indexed, the front
   // block at `origin`.
@@ -143,6 +144,7 @@ struct GuardMode {
   bool simulate = true;         // where the certificate cannot decide: simulate π (else refuse) ...
   double simulate_up_to_s = 0;  // ... or only when the certificate's ramp lasts at most this
   bool gate = true;             // where the certificate cannot decide, its gated form first
+  bool jerk_gate = true;        // ... a block of far lower jerk being a gate too
 };
 
 class JerkGuard {
