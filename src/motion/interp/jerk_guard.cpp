@@ -815,6 +815,11 @@ RampTo ramp_to(const ProfileState& x, double w, double a, double j) {
 // and junction up to it, and the second is the certificate from (w, a = 0) one cycle of cruising
 // past the gate (the fallback starts it in the first cycle after the gate; a ramp started earlier on
 // the same blocks is slower everywhere and keeps the same limits). Safe only when both are.
+// The first ramp need only end before the gate, not a cycle before it: its last cycle, at J1, may
+// end inside the gate block whose jerk is lower. The motion keeps every limit in continuous time
+// (the ramp's jerk is J1 only while it is still on the blocks before the gate, and a = 0 from where
+// it reaches w), as with the acceleration gate; a cycle-by-cycle check() of that last cycle would
+// count J1 against the gate block and refuse it (a review's note, stop 21).
 JerkGuard::Cert JerkGuard::certify_gated(const ProfileState& x0, double p, const Cursor& c, std::size_t k,
                                          GuardVerdict& v) const {
   const ProfileState x{0, x0.v, x0.a, 0};
