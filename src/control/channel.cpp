@@ -144,6 +144,7 @@ bool Channel::push_curve(int& budget) {
   if (const auto* nb = std::get_if<program::Nurbs>(&op)) feed = nb->feed_mm_s;
   if (const auto* l = std::get_if<program::Linear>(&op)) feed = l->feed_mm_s;  // a smoothed line
   if (const auto* a = std::get_if<program::Arc>(&op)) feed = a->feed_mm_s;     // an arc in pieces
+  const bool smoothed = std::holds_alternative<program::Linear>(op);
   const std::uint32_t first = curve_first_[pc_], last = curve_first_[pc_ + 1];
   // A smoothed leg stands for the thinned lines after it too: its setpoints name them all.
   std::uint32_t tag_last = pc_;
@@ -152,8 +153,12 @@ bool Channel::push_curve(int& budget) {
     if (planner_.queue().full() || budget <= 0 || planning_spent()) return false;
     const auto& seg = curve_segments_[first + curve_next_];
     req_.geom = seg;
-    // Not mergeable: a smoothed run's stubs keep the direction their spline leaves along.
-    const auto r = planner_.push(request(feed, false, false, tag_last));
+    // Not mergeable: a smoothed run's stubs keep the direction their spline leaves along. Its
+    // pieces lie up to smoothing_share·P off the lines they replace: a blend at the run's ends
+    // keeps to the rest of P (a stub into a tangent arc went 1.28·P off the program before).
+    request(feed, false, false, tag_last);
+    if (smoothed) req_.offset_mm = planner_.config().smoothing_share * (path_tolerance_mm_ < 0 ? planner_.config().tolerance_mm : path_tolerance_mm_);
+    const auto r = planner_.push(req_);
     if (r != motion::PlanResult::Ok) {
       fail(motion::to_string(r), r);
       return false;
@@ -175,6 +180,7 @@ const motion::PathRequest& Channel::request(double feed_mm_s, bool rapid, bool m
   req_.tolerance_mm = path_tolerance_mm_;
   req_.profile = motion::ProfileKind::Scurve;
   req_.mergeable = mergeable;
+  req_.offset_mm = 0;
   return req_;
 }
 

@@ -24,6 +24,10 @@ struct PathRequest {
   // line that must keep its direction, such as a smoothed run's end stub, tangent to its spline
   // (merged, it would meet the spline at a kink, an exact stop under a jerk limit).
   bool mergeable = true;
+  // How far this move may already lie from the programmed path (a smoothed run's pieces: up to the
+  // smoothing's share of P). A blend at its ends keeps to the rest of P, as one at a merged line
+  // keeps to P − Q.
+  double offset_mm = 0;
 };
 
 }  // namespace softmc::motion

@@ -614,7 +614,7 @@ PlanResult Planner::plan(const PathRequest& req, double merge_dev_mm, std::uint3
   b.tag = req.tag;
   b.tag_last = std::max({req.tag, req.tag_last, tag_last});
   b.length = req.geom.length;
-  b.merge_q_mm = merge_dev_mm;
+  b.merge_q_mm = std::max(merge_dev_mm, req.offset_mm);
   set_limits(b, sl, req.profile == ProfileKind::Trapezoid ? kInf : sl.j_max_mm_s3, target_speed(req.rapid, req.feed_mm_s));
   set_law(b, [&] { return segment_law(req.geom, limits_); });
   b.feed_mm_s = req.rapid ? kInf : req.feed_mm_s;
