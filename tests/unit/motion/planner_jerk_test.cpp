@@ -487,6 +487,34 @@ TEST(PlannerJerk, CertificateGroupsGiveTheBlockByBlockVerdict) {
   }
 }
 
+// The gated certificate's first stage (a brake to the gate block's speed w on the limits before
+// it) must never fall below w on the way: from a hard brake (25 mm/s at −700 mm/s², 10 000 mm/s³)
+// the ramp to w = 1 mm/s eases a to 0 only at 0.5 mm/s and comes back up. Accepted, such a state
+// let the follower ease at the corner's jerk one cycle and ride the dip to near rest the next
+// (engraving.ngc 62.279 s instead of 60.991 when the jerk gate came without this condition). The
+// corner's lower jerk (3 000) in π's scan makes the plain certificate refuse, so only the gate
+// could accept the state: it must not.
+TEST(PlannerJerk, GatedBrakeNeverDipsBelowTheGateSpeed) {
+  const auto verdict = [](double a0) {
+    const PathStep step = jerk_cycle({0, 25 - a0 * 0.001, a0, 0}, 0, 0.001);
+    std::vector<Block> b{guard_block(1.0 + step.x.s, 1000, 10000, 100, 100, 1e4),  // the run, 1 mm left
+                         guard_block(0.05, 10, 3000, 1, 100, 1),                    // the corner, w = 1
+                         guard_block(5, 1000, 10000, 100, 100, 1)};
+    for (int k = 0; k < 8; ++k) b.push_back(guard_block(5, 1000, 10000, 100, 100, 1e4));
+    core::Ring<Block> ring(64);
+    GuardScratch scratch(64);
+    for (const auto& x : b) ring.push(x);
+    GuardMode mode;
+    mode.certify = true;
+    mode.simulate = false;
+    return JerkGuard(ring, ring.size(), 0, step.x.v, 0.001, 1, false, 1, scratch).verify(step, mode);
+  };
+  const GuardVerdict dips = verdict(-700);  // eased at 10 000: 25 − 700²/20 000 = 0.5 mm/s < w
+  EXPECT_TRUE(dips.failed() || dips.cert_w == 0) << "accepted through the gate, w = " << dips.cert_w;
+  const GuardVerdict keeps = verdict(-300);  // 25 − 4.5: never below w, the gate may take it
+  EXPECT_FALSE(keeps.failed());
+}
+
 TEST(PlannerJerk, CertificateGroupSkipsGiveTheSameSetpoints) {
   const auto lim = jerk_limits(200, 2000, 10000);
   std::vector<core::Vec> pts;
