@@ -345,6 +345,15 @@ Block guard_block(double len, double a, double j, double cap, double feed, doubl
   b.v2_junction = u2;
   return b;
 }
+// The certificate's verdict (no simulation of π) on `step` over the window `blocks`, at v_now.
+GuardVerdict certificate_verdict(const std::vector<Block>& blocks, double v_now, const PathStep& step, GuardScratch& scratch) {
+  core::Ring<Block> ring(scratch.cap);
+  for (const auto& x : blocks) ring.push(x);
+  GuardMode mode;
+  mode.certify = true;
+  mode.simulate = false;
+  return JerkGuard(ring, ring.size(), 0, v_now, 0.001, 1, false, 1, scratch).verify(step, mode);
+}
 // Every field of the verdicts, exactly (`near`: distances to the rounding of starts read as
 // differences from an index's origin).
 void expect_same_verdict(const GuardVerdict& a, const GuardVerdict& b, bool near, const std::string& what) {
@@ -453,13 +462,8 @@ TEST(PlannerJerk, CertificateGroupsGiveTheBlockByBlockVerdict) {
       std::vector<Block> b{guard_block(len, 2000, 10000, 100, 100, 1e4), guard_block(0.5, 1000, 10000, 100, 100, 1e4)};
       for (int k = 0; k < 40; ++k) b.push_back(guard_block(0.5, 2000, 10000, 100, 100, 1e4));
       expect_group_verdicts(b, b.size(), 0, 40, step, 0, "on the reach, " + std::to_string(i));
-      core::Ring<Block> ring(256);
       GuardScratch scratch(256);
-      for (const auto& x : b) ring.push(x);
-      GuardMode mode;
-      mode.certify = true;
-      mode.simulate = false;
-      const GuardVerdict v = JerkGuard(ring, ring.size(), 0, 40, 0.001, 1, false, 1, scratch).verify(step, mode);
+      const GuardVerdict v = certificate_verdict(b, 40, step, scratch);
       if (i == 0) first_a = v.cert_a;
       both = both || v.cert_a != first_a;
       sharpened += scratch.sharpened;
@@ -501,13 +505,8 @@ TEST(PlannerJerk, GatedBrakeNeverDipsBelowTheGateSpeed) {
                          guard_block(0.05, 10, 3000, 1, 100, 1),                    // the corner, w = 1
                          guard_block(5, 1000, 10000, 100, 100, 1)};
     for (int k = 0; k < 8; ++k) b.push_back(guard_block(5, 1000, 10000, 100, 100, 1e4));
-    core::Ring<Block> ring(64);
     GuardScratch scratch(64);
-    for (const auto& x : b) ring.push(x);
-    GuardMode mode;
-    mode.certify = true;
-    mode.simulate = false;
-    return JerkGuard(ring, ring.size(), 0, step.x.v, 0.001, 1, false, 1, scratch).verify(step, mode);
+    return certificate_verdict(b, step.x.v, step, scratch);
   };
   const GuardVerdict dips = verdict(-700);  // eased at 10 000: 25 − 700²/20 000 = 0.5 mm/s < w
   EXPECT_TRUE(dips.failed() || dips.cert_w == 0) << "accepted through the gate, w = " << dips.cert_w;
