@@ -31,7 +31,7 @@ VelocityRamp plan_ramp(double dist, double v0, double vc, double v1_want, double
   // The exit speeds the distance allows from v0, then the wanted one clamped into them.
   const double lo = hair ? v1_target : std::sqrt(std::max(0.0, v0 * v0 - 2 * acc * dist));
   const double hi = std::sqrt(v0 * v0 + 2 * acc * dist);
-  double v1 = std::clamp(std::min(v1_want, v1_max), lo, hi);
+  double v1 = std::clamp(v1_target, lo, hi);
   v1 = std::min(v1, std::max(vc, lo));  // never speed up past the cruise speed to leave a block
   if (v0 <= vc && v1 <= vc) {
     // Accelerate to the peak (vc, or where the two ramps meet), cruise, brake to v1.
