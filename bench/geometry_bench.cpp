@@ -22,6 +22,11 @@ core::Vec xy(double x, double y, double z = 0) {
 
 motion::Segment line() { return motion::make_line(xy(0, 0), xy(100, 40, 5)); }
 motion::Segment helix() { return motion::make_arc(xy(10, 0), xy(10, 0, 5), 0, 1, 0, 0, 1); }
+// A G-code arc whose end is off its circle by the program's rounding (plasma.ngc's notch: 0.54 µm):
+// a spiral, whose angle at s takes a Newton step on its closed-form length.
+motion::Segment slight_spiral() { return motion::make_arc(xy(31.62, 18.835), xy(38.54, 14.839), 0, 1, 35, 16.699, -1); }
+// A tiny arc within the interpreter's allowance: r 0.01 → 0.037 mm, a few Newton steps.
+motion::Segment strong_spiral() { return motion::make_arc(xy(10, 10), xy(10.047, 10), 0, 1, 10.01, 10, -1); }
 motion::Segment cubic() { return motion::make_cubic_bezier(xy(0, 0), xy(30, 80), xy(90, -60), xy(100, 20, 5)); }
 motion::Segment quarter_circle() {
   const std::vector<core::Vec> c{xy(30, 30), xy(30, 40), xy(20, 40)};
@@ -71,6 +76,8 @@ BENCHMARK(BM_Point<quarter_circle>)->Name("GeometryPoint/NurbsQuarterCircle");
 BENCHMARK(BM_Point<quintic_nurbs_piece>)->Name("GeometryPoint/QuinticNurbs");
 BENCHMARK(BM_Point<thesis_polynomial>)->Name("GeometryPoint/NewtonThesis");
 BENCHMARK(BM_Frame<helix>)->Name("GeometryFrame/Helix");
+BENCHMARK(BM_Frame<slight_spiral>)->Name("GeometryFrame/SlightSpiral");
+BENCHMARK(BM_Frame<strong_spiral>)->Name("GeometryFrame/StrongSpiral");
 BENCHMARK(BM_Frame<cubic>)->Name("GeometryFrame/CubicBezier");
 BENCHMARK(BM_Frame<thesis_polynomial>)->Name("GeometryFrame/NewtonThesis");
 

@@ -12,6 +12,52 @@ namespace softmc::motion {
 static_assert(sizeof(Segment) <= 1536, "Segment grew past 1.5 KB");  // 1328 bytes today
 static_assert(std::is_trivially_copyable_v<Segment>, "queues copy Segments bytewise");
 
+namespace {
+
+// A spiral arc, r(φ) = r0 + b·φ for the angle φ ∈ [0, |sweep|] turned from the start (b ≠ 0).
+// In-plane length from φ = 0 to φ: [r·q + b²·ln(r + q)] / (2b) between r0 and r(φ), q = √(r² + b²),
+// written without the cancellation of its two large terms when b is small (r·q − r0·q0 =
+// b·φ·(r + r0)·(r² + r0² + b²) / (r·q + r0·q0), and ln((r + q)/(r0 + q0)) as a log1p). rt-safe.
+double spiral_length(double r0, double q0, double b, double phi, double r1, double q1) {
+  const double den = r1 * q1 + r0 * q0;
+  if (!(den > 0)) return 0;
+  return phi * (r1 + r0) * (r1 * r1 + r0 * r0 + b * b) / (2 * den) +
+         0.5 * b * std::log1p(b * phi * (1 + (r1 + r0) / (q1 + q0)) / (r0 + q0));
+}
+double spiral_length(double r0, double q0, double b, double phi) {
+  const double r1 = r0 + b * phi;
+  return spiral_length(r0, q0, b, phi, r1, std::sqrt(r1 * r1 + b * b));
+}
+
+struct SpiralAngle {
+  double phi, r, q;  // angle turned, radius there, √(r² + b²) = dσ/dφ
+};
+// The angle at in-plane length σ: Newton on spiral_length from the root of its second-order
+// expansion r0·φ + b·φ²/2 = σ, which is already within (b/r)² of it (one step for G-code's slight
+// spirals, a few for strong ones). Newton's next error is at most |b|·d²/(2q) for a step d: the loop
+// ends when that is below rounding. rt-safe.
+SpiralAngle spiral_angle(double r0, double b, double sigma, double phi_max) {
+  const double q0 = std::sqrt(r0 * r0 + b * b);
+  const double den = r0 + std::sqrt(std::max(0.0, r0 * r0 + 2 * b * sigma));
+  double phi = std::clamp(den > 0 ? 2 * sigma / den : sigma / q0, 0.0, phi_max);
+  double r = r0 + b * phi, q = std::sqrt(r * r + b * b);
+  for (int it = 0; it < 16; ++it) {
+    const double d = (spiral_length(r0, q0, b, phi, r, q) - sigma) / q;
+    const double next = std::clamp(phi - d, 0.0, phi_max);
+    r = r0 + b * next;
+    if (std::abs(b) * d * d <= 1e-17 * q * phi_max) {  // converged: q moves by its slope r·b/q
+      q += (next - phi) * r * b / q;
+      phi = next;
+      break;
+    }
+    phi = next;
+    q = std::sqrt(r * r + b * b);
+  }
+  return {phi, r, q};
+}
+
+}  // namespace
+
 Segment make_line(const Vec& start, const Vec& end) {
   Segment s;
   set_line(s, start, end);
@@ -26,7 +72,7 @@ void set_line(Segment& s, const Vec& start, const Vec& end) {
   s.dir = s.length > 0 ? (end - start) * (1.0 / s.length) : Vec{};
   s.axis0 = 0;
   s.axis1 = 1;
-  s.c0 = s.c1 = s.radius = s.theta0 = s.sweep = s.dradius = 0;
+  s.c0 = s.c1 = s.radius = s.theta0 = s.sweep = s.dradius = s.plane_rate = 0;
   s.linear = Vec{};
 }
 
@@ -58,26 +104,68 @@ Segment make_arc(const Vec& start, const Vec& end, std::uint8_t axis0, std::uint
   Vec lin = end - start;
   lin[axis0] = 0;
   lin[axis1] = 0;
-  // In-plane length of the spiral r(φ) = r0 + dr·φ/|sweep|: ∫ √(r² + (dr/sweep)²) dφ, by 8-point
-  // Gauss–Legendre (the integrand is smooth and nearly constant: exact to rounding).
+  // In-plane length of the spiral r(φ) = r0 + dr·φ/|sweep| in closed form (a circle's r·|sweep|).
   double arc_len = s.radius * std::abs(s.sweep);
   if (s.dradius != 0) {
-    static constexpr double kX[4] = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267, 0.9602898564975363};
-    static constexpr double kW[4] = {0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763};
-    const double rp = s.dradius / std::abs(s.sweep);
-    arc_len = 0;
-    for (int k = 0; k < 4; ++k)
-      for (const double sg : {-1.0, 1.0}) {
-        const double f = 0.5 * (1 + sg * kX[k]);
-        arc_len += kW[k] * std::hypot(s.radius + s.dradius * f, rp);
-      }
-    arc_len *= 0.5 * std::abs(s.sweep);
+    const double b = s.dradius / std::abs(s.sweep);
+    arc_len = spiral_length(s.radius, std::sqrt(s.radius * s.radius + b * b), b, std::abs(s.sweep));
   }
   const double lin_len = core::norm(lin);
   s.length = std::hypot(arc_len, lin_len);
-  if (s.length > 0) s.linear = lin * (1.0 / s.length);
+  if (s.length > 0) {
+    s.linear = lin * (1.0 / s.length);
+    s.plane_rate = arc_len / s.length;
+  }
   return s;
 }
+
+namespace {
+// An arc at s: angle, radius and the in-plane derivatives d(angle)/ds-related terms, from one
+// angle search. On a circle the angle is linear in s (the formulas of before spirals were exact).
+struct ArcAt {
+  double th, r;
+  double dphi = 0, ddphi = 0, b = 0, sg = 1;  // spirals: dφ/ds, d²φ/ds², dr/dφ, direction of turn
+};
+ArcAt arc_at(const Segment& g, double s) {
+  const double f = std::clamp(s, 0.0, g.length) / g.length;
+  if (g.dradius == 0) return {g.theta0 + g.sweep * f, g.radius};
+  const double sweep = std::abs(g.sweep), b = g.dradius / sweep, sg = g.sweep > 0 ? 1.0 : -1.0;
+  const SpiralAngle a = spiral_angle(g.radius, b, g.plane_rate * std::clamp(s, 0.0, g.length), sweep);
+  const double dphi = g.plane_rate / a.q;
+  return {g.theta0 + sg * a.phi, a.r, dphi, -dphi * dphi * a.r * b / (a.q * a.q), b, sg};
+}
+// rt-safe. The in-plane parts: on a spiral dp/dφ = b·e_r + sg·r·e_θ and
+// d²p/dφ² = 2·b·sg·e_θ − r·e_r, with e_r = (cos θ, sin θ), e_θ = (−sin θ, cos θ).
+Vec arc_tangent(const Segment& g, const ArcAt& a) {
+  const double c = std::cos(a.th), sn = std::sin(a.th);
+  Vec t = g.linear;
+  if (g.dradius == 0) {
+    const double k = g.radius * g.sweep / g.length;  // r·dθ/ds, signed
+    t[g.axis0] = -sn * k;
+    t[g.axis1] = c * k;
+    return t;
+  }
+  const double rt = a.sg * a.r;
+  t[g.axis0] = a.dphi * (a.b * c - rt * sn);
+  t[g.axis1] = a.dphi * (a.b * sn + rt * c);
+  return t;
+}
+
+Vec arc_curvature(const Segment& g, const ArcAt& a) {
+  const double c = std::cos(a.th), sn = std::sin(a.th);
+  Vec k{};
+  if (g.dradius == 0) {
+    const double w = g.sweep / g.length;  // d(angle)/ds
+    k[g.axis0] = -g.radius * w * w * c;
+    k[g.axis1] = -g.radius * w * w * sn;
+    return k;
+  }
+  const double d2 = a.dphi * a.dphi, rt = a.sg * a.r, bt = 2 * a.b * a.sg;
+  k[g.axis0] = d2 * (-bt * sn - a.r * c) + a.ddphi * (a.b * c - rt * sn);
+  k[g.axis1] = d2 * (bt * c - a.r * sn) + a.ddphi * (a.b * sn + rt * c);
+  return k;
+}
+}  // namespace
 
 // rt-safe
 Segment trimmed(const Segment& g, double s0, double s1) {
@@ -86,14 +174,20 @@ Segment trimmed(const Segment& g, double s0, double s1) {
   s1 = std::clamp(s1, s0, g.length);
   if (g.kind == SegmentKind::Line) return make_line(g.point(s0), g.point(s1));
   Segment t = g;
-  const double f0 = s0 / g.length, f = (s1 - s0) / g.length;
   t.start = g.point(s0);
   t.end = g.point(s1);
-  t.theta0 = g.theta0 + g.sweep * f0;
-  t.radius = g.radius + g.dradius * f0;
-  t.sweep = g.sweep * f;
-  t.dradius = g.dradius * f;
-  t.length = s1 - s0;  // `linear` is per unit of s: unchanged
+  t.length = s1 - s0;  // `linear` and `plane_rate` are per unit of s: unchanged
+  if (g.dradius == 0) {
+    const double f0 = s0 / g.length, f = (s1 - s0) / g.length;
+    t.theta0 = g.theta0 + g.sweep * f0;
+    t.sweep = g.sweep * f;
+    return t;
+  }
+  const ArcAt a0 = arc_at(g, s0), a1 = arc_at(g, s1);
+  t.theta0 = a0.th;
+  t.radius = a0.r;
+  t.sweep = a1.th - a0.th;
+  t.dradius = a0.b * std::abs(t.sweep);  // the same dr/dφ, so the same curve
   return t;
 }
 
@@ -103,11 +197,10 @@ Vec Segment::point(double s) const {
   if (s >= length) return end;
   if (kind == SegmentKind::Line) return start + dir * s;
   if (kind == SegmentKind::Poly) return poly.at(poly.param_at(s));
-  const double th = theta0 + sweep * (s / length);
-  const double r = radius + dradius * (s / length);
+  const ArcAt a = arc_at(*this, s);
   Vec p = start + linear * s;
-  p[axis0] = c0 + r * std::cos(th);
-  p[axis1] = c1 + r * std::sin(th);
+  p[axis0] = c0 + a.r * std::cos(a.th);
+  p[axis1] = c1 + a.r * std::sin(a.th);
   return p;
 }
 
@@ -123,29 +216,16 @@ Vec Segment::tangent(double s) const {
     return u >= 1 && stationary(d) ? unit_tangent(d) * -1.0 : unit_tangent(d);
   }
   if (length <= 0) return Vec{};
-  const double f = std::clamp(s, 0.0, length) / length;
-  const double th = theta0 + sweep * f;
-  const double k = (radius + dradius * f) * sweep / length;  // r·dθ/ds, signed
-  const double kr = dradius / length;                         // dr/ds
-  Vec t = linear;
-  t[axis0] = -std::sin(th) * k + std::cos(th) * kr;
-  t[axis1] = std::cos(th) * k + std::sin(th) * kr;
-  return t;
+  return arc_tangent(*this, arc_at(*this, s));
 }
+
 
 // rt-safe
 Vec Segment::curvature(double s) const {
   Vec k{};
   if (kind == SegmentKind::Line || length <= 0) return k;
   if (kind == SegmentKind::Poly) return curvature_vector(poly.derivs(poly.param_at(s)));
-  const double f = std::clamp(s, 0.0, length) / length;
-  const double th = theta0 + sweep * f;
-  const double w = sweep / length;  // d(angle)/ds
-  const double r = radius + dradius * f;
-  const double c = 2 * (dradius / length) * w;  // the spiral's 2·r'·θ' along the angle's direction
-  k[axis0] = -r * w * w * std::cos(th) - c * std::sin(th);
-  k[axis1] = -r * w * w * std::sin(th) + c * std::cos(th);
-  return k;
+  return arc_curvature(*this, arc_at(*this, s));
 }
 
 double Segment::distance_to(const Vec& p, double enough) const {
@@ -176,8 +256,7 @@ double Segment::distance_to(const Vec& p, double enough) const {
       best = std::min(best, core::norm(d));
       if (best <= enough) return true;
       const double f = core::dot(d, fr.tangent);
-      // f' = |P'|² + (P − p)·P'': a spiral's s is not its arc length, |P'| ≠ 1 (with 1 here Newton
-      // converged only linearly and could stop microns short within its 12 steps; a review's find).
+      // f' = |P'|² + (P − p)·P'' (|P'| = 1 to rounding on lines and arcs; Poly curves too).
       const double df = core::dot(fr.tangent, fr.tangent) + core::dot(d, fr.curvature);
       if (!(df > 1e-12)) return false;  // not towards a minimum from here
       const double next = std::clamp(s - f / df, 0.0, length);
@@ -192,8 +271,14 @@ double Segment::distance_to(const Vec& p, double enough) const {
     return best;
   }
   if (best <= enough) return best;
+  // The arc length at an angle turned from the start (a spiral's is not linear in it).
+  const auto s_at = [&](double rel) {
+    if (dradius == 0 || !(plane_rate > 0)) return length * (rel / sweep);
+    const double b = dradius / std::abs(sweep);
+    return std::clamp(spiral_length(radius, std::sqrt(radius * radius + b * b), b, std::abs(rel)) / plane_rate, 0.0, length);
+  };
   for (double rel = base; rel <= hi + 1e-12; rel += kTwoPi)
-    if (refine(length * (rel / sweep))) return best;
+    if (refine(s_at(rel))) return best;
   if (refine(0) || refine(length)) return best;
   if (lin2 > 0) refine(std::clamp(core::dot(p - start, linear) / lin2, 0.0, length));
   return best;
@@ -234,7 +319,17 @@ void Segment::bounds(Vec& lo, Vec& hi) const {
 
 // rt-safe
 CurveFrame Segment::frame(double s) const {
-  if (kind != SegmentKind::Poly) return {point(s), tangent(s), curvature(s)};
+  if (kind == SegmentKind::Line) return {point(s), dir, Vec{}};
+  if (kind == SegmentKind::Arc) {
+    if (!(length > 0)) return {start, Vec{}, Vec{}};
+    const ArcAt a = arc_at(*this, s);
+    Vec p = start + linear * std::clamp(s, 0.0, length);
+    p[axis0] = c0 + a.r * std::cos(a.th);
+    p[axis1] = c1 + a.r * std::sin(a.th);
+    if (s <= 0) p = start;
+    if (s >= length) p = end;
+    return {p, arc_tangent(*this, a), arc_curvature(*this, a)};
+  }
   CurveFrame f;
   if (s <= 0) {
     f.point = start;
@@ -267,11 +362,17 @@ Vec Segment::max_abs_tangent() const {
   }
   for (std::size_t i = 0; i < core::kMaxAxes; ++i) m[i] = std::abs(linear[i]);
   if (length <= 0) return m;
-  // The in-plane tangent is r·sweep/L·(-sin θ, cos θ) (+ dr/L·(cos θ, sin θ) on a spiral).
+  // The in-plane tangent is plane_rate·(-sin θ, cos θ) on a circle turning positively.
   const double k = arc_bounds().inplane;
-  const double a0 = std::min(theta0, theta0 + sweep), a1 = std::max(theta0, theta0 + sweep);
-  m[axis0] = k * max_abs_trig(a0, a1, std::numbers::pi / 2);
-  m[axis1] = k * max_abs_trig(a0, a1, 0);
+  if (dradius == 0) {
+    const double a0 = std::min(theta0, theta0 + sweep), a1 = std::max(theta0, theta0 + sweep);
+    m[axis0] = k * max_abs_trig(a0, a1, std::numbers::pi / 2);
+    m[axis1] = k * max_abs_trig(a0, a1, 0);
+    return m;
+  }
+  const auto [a0, a1] = tangent_angles();
+  m[axis0] = k * max_abs_trig(a0, a1, 0);
+  m[axis1] = k * max_abs_trig(a0, a1, std::numbers::pi / 2);
   return m;
 }
 
@@ -279,10 +380,28 @@ Vec Segment::max_abs_tangent() const {
 Vec Segment::max_abs_normal() const {
   Vec m;
   if (kind != SegmentKind::Arc) return m;
-  const double a0 = std::min(theta0, theta0 + sweep), a1 = std::max(theta0, theta0 + sweep);
-  m[axis0] = max_abs_trig(a0, a1, 0);  // the normal is −(cos θ, sin θ)
-  m[axis1] = max_abs_trig(a0, a1, std::numbers::pi / 2);
+  if (dradius == 0) {
+    const double a0 = std::min(theta0, theta0 + sweep), a1 = std::max(theta0, theta0 + sweep);
+    m[axis0] = max_abs_trig(a0, a1, 0);  // the normal is −(cos θ, sin θ)
+    m[axis1] = max_abs_trig(a0, a1, std::numbers::pi / 2);
+    return m;
+  }
+  const auto [a0, a1] = tangent_angles();  // the normal is the tangent turned by a right angle
+  m[axis0] = max_abs_trig(a0, a1, std::numbers::pi / 2);
+  m[axis1] = max_abs_trig(a0, a1, 0);
   return m;
+}
+
+// rt-safe. The range of the in-plane tangent's direction ψ: θ ± π/2 on a circle; on a spiral
+// dp/dφ = b·e_r + sg·r·e_θ points at θ + atan2(sg·r, b), whose second term runs monotonically
+// between its values at the two radii (a range that holds both sums is a bound).
+std::pair<double, double> Segment::tangent_angles() const {
+  const double a0 = std::min(theta0, theta0 + sweep), a1 = std::max(theta0, theta0 + sweep);
+  const double sg = sweep > 0 ? 1.0 : -1.0;
+  if (dradius == 0) return {a0 + sg * std::numbers::pi / 2, a1 + sg * std::numbers::pi / 2};
+  const double b = dradius / std::abs(sweep);
+  const double d0 = std::atan2(sg * radius, b), d1 = std::atan2(sg * (radius + dradius), b);
+  return {a0 + std::min(d0, d1), a1 + std::max(d0, d1)};
 }
 
 // rt-safe
@@ -296,18 +415,25 @@ double Segment::max_curvature() const {
 Segment::ArcBounds Segment::arc_bounds() const {
   ArcBounds b;
   if (kind != SegmentKind::Arc || !(length > 0)) return b;
-  const double w = std::abs(sweep) / length, rp = std::abs(dradius) / length;
-  const double r_max = radius + std::max(0.0, dradius), r_min = radius + std::min(0.0, dradius);
-  b.inplane = std::hypot(r_max * w, rp);
-  b.kappa = r_max * w * w + 2 * rp * w;
-  // p = r·e_r in the plane with θ' = ω, r' = rp: p''' = −3·r'·ω²·e_r − r·ω³·e_θ.
-  b.k_speed = r_max * w * w * w + 3 * rp * w * w;
-  // tangent·curvature = r·r'·θ'² (zero on a circle); |a_t·T + w·K|² ≤ (1 + η)(a_t²|T|² + w²|K|²)
-  // with η = |T·K| / (|T|·|K|), so share = 1/√(1 + η).
-  if (rp > 0 && r_min > 0) {
-    const double eta = r_max * rp * w * w / (r_min * w * (r_min * w * w));
-    b.share = 1 / std::sqrt(1 + eta);
+  if (dradius == 0) {  // a circle (or a circular helix)
+    const double w = std::abs(sweep) / length;
+    b.inplane = radius * w;
+    b.kappa = radius * w * w;
+    b.k_speed = radius * w * w * w;
+    return b;
   }
+  // A spiral r = r0 + β·φ of in-plane arc length σ = plane_rate·s: its curvature in σ is
+  // f(r) = (r² + 2β²)/(r² + β²)^{3/2}, largest at the smallest radius (f' < 0), and
+  // |d³p/dσ³| = √(f'² (β/q)² + f⁴) ≤ f² + |β|·r(r² + 4β²)/(r² + β²)³, bounded with the largest r
+  // above and the smallest below. Each s-derivative adds a factor plane_rate.
+  const double beta = std::abs(dradius) / std::abs(sweep), b2 = beta * beta;
+  const double r_max = radius + std::max(0.0, dradius), r_min = std::max(0.0, radius + std::min(0.0, dradius));
+  const double q_min2 = r_min * r_min + b2;
+  const double f_max = (r_min * r_min + 2 * b2) / (q_min2 * std::sqrt(q_min2));
+  const double c = plane_rate;
+  b.inplane = c;
+  b.kappa = c * c * f_max;
+  b.k_speed = c * c * c * (f_max * f_max + beta * r_max * (r_max * r_max + 4 * b2) / (q_min2 * q_min2 * q_min2));
   return b;
 }
 

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
 
 #include "core/axes.hpp"
 #include "motion/geometry/poly_curve.hpp"
@@ -40,12 +41,14 @@ struct Segment {
 
   // Arc: plane axes, centre, radius, start angle and signed sweep (radians); the linear part of
   // the motion (axes outside the plane) is `end - start` restricted to those axes.
-  // The radius runs linearly from `radius` at the start to radius + dradius at the end: a
-  // programmed end point off the circle by the interpreter's allowance is reached exactly (a slight
-  // spiral, as LinuxCNC does), never by a jump at the arc's end. The angle and radius advance
-  // uniformly with s, so |tangent| differs from 1 by at most about |dradius|/(2·radius).
+  // The radius runs linearly with the angle from `radius` at the start to radius + dradius at the
+  // end: a programmed end point off the circle by the interpreter's allowance is reached exactly (a
+  // slight spiral, as LinuxCNC does), never by a jump at the arc's end. s is the arc length of the
+  // spiral too (|tangent| = 1 to rounding): the angle at s is found from the spiral's closed-form
+  // length (a Newton step or two; a circle's angle is linear in s).
   std::uint8_t axis0 = 0, axis1 = 1;
   double c0 = 0, c1 = 0, radius = 0, theta0 = 0, sweep = 0, dradius = 0;
+  double plane_rate = 0;  // in-plane length per unit of s: 1 in the plane, less on a helix
   Vec linear;  // per unit of s: d(pos)/ds for the axes outside the plane
 
   // Poly: the curve C(u) with its arc-length table (constructors in bezier.hpp, cubic_spline.hpp,
@@ -75,14 +78,15 @@ struct Segment {
   // over the sweep (1 where the sweep passes the axis's direction): the planner's sweep bound.
   Vec max_abs_normal() const;
   double max_curvature() const;
+  // Arcs: a range of angles holding the in-plane tangent's direction over the whole arc. rt-safe.
+  std::pair<double, double> tangent_angles() const;
 
-  // Arcs: bounds over the whole arc for the planner's limits. inplane ≥ |in-plane part of
-  // tangent(s)|, kappa ≥ |curvature(s)|, and share ≤ 1 such that
-  // |a_t·tangent + w·curvature| ≤ √(a_t²·inplane² + w²·kappa²) / share (1 on a true circle, where
-  // the two are orthogonal; a spiral's tangent and curvature are a little less than orthogonal).
+  // Arcs: bounds over the whole arc for the planner's limits. inplane = |in-plane part of
+  // tangent(s)| (constant), kappa ≥ |curvature(s)|; tangent and curvature are orthogonal (s is the
+  // arc length), so |a_t·tangent + w·curvature| = √(a_t² + w²·|curvature|²).
   struct ArcBounds {
-    double inplane = 0, kappa = 0, share = 1;
-    double k_speed = 0;  // bound of |d³p/ds³| in the plane: r_max·ω³ + 3·|r'|·ω² (ω = |sweep|/length)
+    double inplane = 0, kappa = 0;
+    double k_speed = 0;  // bound of |d³p/ds³| in the plane (plane_rate³/r² on a circle)
   };
   ArcBounds arc_bounds() const;
 };
@@ -99,9 +103,9 @@ void set_line(Segment& s, const Vec& start, const Vec& end);
 Segment make_arc(const Vec& start, const Vec& end, std::uint8_t axis0, std::uint8_t axis1, double c0, double c1,
                  int turns);
 
-// The part s ∈ [s0, s1] of a line or arc/helix (0 ≤ s0 < s1 ≤ length), exact: an arc's angle and
-// radius advance uniformly with s, so the piece is the same curve with its own start angle, sweep
-// and radius (the planner trims arcs where it blends their ends). Poly curves are returned whole.
+// The part s ∈ [s0, s1] of a line or arc/helix (0 ≤ s0 < s1 ≤ length), exact: an arc's radius runs
+// linearly with its angle, so the piece is the same curve with its own start angle, sweep and
+// radius (the planner trims arcs where it blends their ends). Poly curves are returned whole.
 // rt-safe.
 Segment trimmed(const Segment& g, double s0, double s1);
 

@@ -53,8 +53,7 @@ struct SpeedRule {
 inline double soft_speed(const Block& b, const SpeedRule& r) {
   if (b.rapid) return std::min(b.v_cap_mm_s * std::min(1.0, r.feed_override), r.rapid_limit_mm_s);
   const double v = std::min(b.v_cap_mm_s, b.feed_mm_s * r.feed_override);
-  // feed_scale sits in the block's second cache line: read only while a limit is in force.
-  return r.feed_limit_mm_s < std::numeric_limits<double>::infinity() ? std::min(v, r.feed_limit_mm_s * b.feed_scale) : v;
+  return std::min(v, r.feed_limit_mm_s);
 }
 
 // One cycle of path motion: the state it ends in (x.s = distance moved) and bounds within the cycle.

@@ -52,9 +52,6 @@ struct alignas(64) Block {
   double v2_entry_max = 0;    // (mm/s)²: backward pass — entry speed from which every later limit,
                               // and the stop at the end of what is planned, can still be met
   std::uint32_t tag_last = 0;  // a merged line: the last instruction it stands for (else = tag)
-  // Path speed along s per mm/s of real speed: below 1 on a spiral arc, whose |dp/ds| exceeds 1
-  // (Segment). feed_mm_s already carries it; a P-8 feed limit is taken times it (soft_speed).
-  double feed_scale = 1;
   double merge_q_mm = 0;      // a merged line: largest distance of the programmed corners it replaces
   // A Poly block's limits as segment_limits derived them (before junction shares lowered them), for
   // the speed it was asked for (relimit_v, ∞: none) and the jerk bound it took (relimit_norm): a

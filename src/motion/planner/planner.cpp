@@ -241,8 +241,8 @@ SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double 
     for (std::size_t i : {std::size_t{g.axis0}, std::size_t{g.axis1}}) {
       if (inplane < 1e-12) break;
       v = std::min(v, lim.axis[i].v_max_mm_s / inplane);
-      a = std::min(a, ct * ab.share * lim.axis[i].a_max_mm_s2 / inplane);
-      if (kappa > 0) v = std::min(v, std::sqrt(cn * ab.share * lim.axis[i].a_max_mm_s2 / kappa));
+      a = std::min(a, ct * lim.axis[i].a_max_mm_s2 / inplane);
+      if (kappa > 0) v = std::min(v, std::sqrt(cn * lim.axis[i].a_max_mm_s2 / kappa));
       curve_jerk(l, lim.axis[i].j_max_mm_s3, inplane, k_speed, circle_scale);
     }
     for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
@@ -394,7 +394,7 @@ CurveLaw segment_law(const Segment& g, const MachineLimits& lim) {
     const Vec tmax = g.max_abs_tangent(), nmax = g.max_abs_normal();
     if (inplane >= kTiny)
       for (std::size_t i : {std::size_t{g.axis0}, std::size_t{g.axis1}}) {
-        const double amax = ab.share * lim.axis[i].a_max_mm_s2;
+        const double amax = lim.axis[i].a_max_mm_s2;
         const double tm = circle ? tmax[i] : inplane, nm = circle ? nmax[i] : 1.0;
         if (tm >= kTiny) v = std::min(v, lim.axis[i].v_max_mm_s / tm);
         if (kappa > 0 && nm >= kTiny) l.w_cap = std::min(l.w_cap, amax / (kappa * nm));
@@ -618,17 +618,6 @@ PlanResult Planner::plan(const PathRequest& req, double merge_dev_mm, std::uint3
   set_limits(b, sl, req.profile == ProfileKind::Trapezoid ? kInf : sl.j_max_mm_s3, target_speed(req.rapid, req.feed_mm_s));
   set_law(b, [&] { return segment_law(req.geom, limits_); });
   b.feed_mm_s = req.rapid ? kInf : req.feed_mm_s;
-  // A spiral (an arc whose end is off its circle) runs at |dp/ds| up to hypot(inplane, linear) > 1
-  // where its radius is largest (Segment: angle and radius advance uniformly with s): its feed along
-  // s is lowered by that, so no point of it runs faster than programmed. A tiny arc may be a strong
-  // spiral (r 0.01 → 0.037 mm within the interpreter's allowance: 1.38 times the feed before).
-  if (!req.rapid && req.geom.kind == SegmentKind::Arc && req.geom.dradius != 0) {
-    const double t = std::hypot(req.geom.arc_bounds().inplane, core::norm(req.geom.linear));
-    if (t > 1) {
-      b.feed_scale = 1 / t;
-      b.feed_mm_s *= b.feed_scale;
-    }
-  }
   advance(b, req.tolerance_mm < 0 ? config_.tolerance_mm : req.tolerance_mm);
   return PlanResult::Ok;
 }
@@ -984,8 +973,7 @@ bool Planner::blend_curves(Block& a, Block& b, double tol, double da_half, Block
   a.length = a.seg.length;
   b.seg = trimmed(b.seg, db, b.length);
   b.length = b.seg.length;
-  // A spiral's tangent is a little longer or shorter than 1 (Segment::arc_bounds), the quintic's is
-  // unit: the speed of the axes changes by that fraction where they meet, a kink like any other.
+  // Where the quintic meets the arc their curvatures differ: a kink like any other.
   kink(a, blend);
   kink(blend, b);
   return true;

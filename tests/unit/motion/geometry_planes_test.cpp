@@ -118,10 +118,11 @@ TEST(GeometryPlanes, DistanceToSteepHelicesFindsTheNearestPoint) {
   EXPECT_GT(tight, 300);  // the binormal offsets too are mostly at 0.05: nothing else is nearer
 }
 
-// Strong spirals (the end radius 0.2 to 1.7 times the start's), with and without a rise: s is not
-// their arc length (|P'| ≠ 1), and Newton's derivative must use |P'|², or it converges linearly and
-// stops short (up to 4.9 µm over the true distance in a review's 12 000 cases). Against a dense
-// sampling refined by golden sections: never below it, and above it by rounding only.
+// Strong spirals (the end radius 0.2 to 1.7 times the start's), with and without a rise: Newton
+// starts from the arc length at p's angle (on a spiral not linear in the angle: from a linear guess,
+// and before stop 22 with |P'| ≠ 1, it could stop short, up to 4.9 µm over the true distance in a
+// review's 12 000 cases). Against a dense sampling refined by golden sections: never below it, and
+// above it by rounding only.
 TEST(GeometryPlanes, DistanceToStrongSpiralsIsTheNearestPoint) {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(0, 1);

@@ -254,12 +254,12 @@ TEST(Lookahead, DenseTinyBlocksNeverOutrunTheCycleBudget) {
   }
 }
 
-// A G-code arc whose end is off its circle runs as a spiral whose |dp/ds| exceeds 1 where its radius
-// is largest: a tiny one (r 0.01 → 0.037 mm, within LinuxCNC's allowance) ran 1.38 times its feed.
-// Its feed along s is lowered by that, so no setpoint moves faster than programmed, with and without
-// a jerk limit (a fuzzer's case).
+// A G-code arc whose end is off its circle runs as a spiral. A tiny one (r 0.01 → 0.037 mm, within
+// LinuxCNC's allowance) ran 1.38 times its feed when its angle advanced linearly with s (a fuzzer's
+// case); its feed was then lowered by that, and its small end ran at 0.41 of the feed. Now s is the
+// spiral's arc length: it runs at its feed from end to end, with and without a jerk limit.
 TEST(Lookahead, SpiralArcsNeverRunFasterThanTheirFeed) {
-  for (const double j : {0.0, 50000.0}) {
+  for (const double j : {0.0, 5e6}) {  // 5e6 mm/s³: the jerk caps this R0.01 curve above the feed
     MachineLimits lim = xyz_limits(100, 2000);
     for (int i = 0; i < 3; ++i) lim.axis[i].j_max_mm_s3 = j;
     const double feed = 1.0;
@@ -268,9 +268,14 @@ TEST(Lookahead, SpiralArcsNeverRunFasterThanTheirFeed) {
     std::vector<core::Vec> trace;
     const auto res = run_path(lim, {arc_req(arc, feed, 0)}, 64, {}, {}, 20'000'000, {}, &trace);
     ASSERT_TRUE(res.finished);
-    double fastest = 0;
-    for (std::size_t k = 1; k < trace.size(); ++k) fastest = std::max(fastest, core::norm(trace[k] - trace[k - 1]) / lim.period_s);
+    double fastest = 0, slowest = 1e300;
+    for (std::size_t k = 1; k < trace.size(); ++k) {
+      const double v = core::norm(trace[k] - trace[k - 1]) / lim.period_s;
+      fastest = std::max(fastest, v);
+      if (k > trace.size() / 10 && k < trace.size() * 9 / 10) slowest = std::min(slowest, v);  // past the ramps
+    }
     EXPECT_LE(fastest, feed * (1 + 1e-6)) << "jerk " << j;
-    EXPECT_GT(fastest, 0.9 * feed) << "jerk " << j;  // and it does run at the feed where |dp/ds| is largest
+    // The feed all along (a 1 µm chord of an R0.01 arc is 2e-4 shorter than the arc).
+    EXPECT_GT(slowest, feed * (1 - 1e-3)) << "jerk " << j;
   }
 }
