@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <tuple>
 
 #include "motion/geometry/segment.hpp"
 
@@ -203,6 +204,20 @@ TEST(Geometry, StrongSpiralsAreParameterisedByArcLength) {
         EXPECT_LE(std::hypot(d3[0], d3[1]), ab.k_speed * 1.01 + 1e-3) << t;
       }
     }
+  }
+  // The interpreter's extremes: radii of 1.3 µm (its zero radius) to 29 µm (its allowance) either
+  // way, and fifty turns: finite, unit tangent, exact ends.
+  for (const auto& [r0, r1, turns] : {std::tuple{0.00128, 0.0295, 1}, {0.0295, 0.00128, -1}, {0.00128, 0.0295, 50},
+                                      {5.0, 5.0 + 1e-12, 1}, {5.0, 5.0 - 1e-12, -50}}) {
+    const auto g = make_arc(xy(r0, 0), xy(0, r1), 0, 1, 0, 0, turns);
+    ASSERT_TRUE(std::isfinite(g.length) && g.length > 0);
+    for (int k = 0; k <= 1000; ++k) {
+      const motion::CurveFrame fr = g.frame(g.length * k / 1000);
+      EXPECT_NEAR(core::norm(fr.tangent), 1, 1e-12) << r0 << " " << r1 << " " << turns << " k " << k;
+      EXPECT_TRUE(std::isfinite(core::norm(fr.curvature)));
+    }
+    EXPECT_EQ(g.point(g.length), g.end);
+    EXPECT_LT(core::distance(g.point(g.length * (1 - 1e-13)), g.end), 1e-9);
   }
 }
 
