@@ -1160,6 +1160,73 @@ void Planner::dense_cap(Block& b) {
   }
 }
 
+namespace {
+// rt-safe. The most speed a motion can have anywhere within L mm of rest (entering a block at rest,
+// or leaving it at rest: time runs backwards) within the path acceleration A and jerk J: from rest at
+// J up to A, then at A.
+double reach_from_rest(double L, double A, double J) {
+  const double d1 = A * A * A / (6 * J * J);
+  if (L <= d1) {
+    const double t = std::cbrt(6 * L / J);
+    return 0.5 * J * t * t;
+  }
+  const double v1 = A * A / (2 * J);
+  return std::sqrt(v1 * v1 + 2 * A * (L - d1));
+}
+}  // namespace
+
+// rt-safe. A Poly block whose one end is at rest (an exact stop, or the window's start) never runs
+// faster than it reaches from rest within its length; its limits, derived for its cap (the curvature
+// terms of its jerk and acceleration budget take what that speed needs), are derived again for the
+// speed c it reaches with them: the fixed point of the reach, by bisection, kept at the bracket's
+// upper end (reach(c) < c). A cap it never meets, and more tangential acceleration and jerk for the
+// ramp from or to rest (the rest of the budget: "Blocks at rest"). What junction shares took off
+// stays off, in proportion (as limit_for_stop). Sound for a block a certified brake may already run
+// through (the one before a new exact stop, which ended the window): every such brake comes to rest
+// by the block's end within its old limits, so it stays below the reach of those, which c exceeds
+// (the limits only rise as the cap falls). Bounded: 14 derivations, none where the block reaches its
+// cap with the limits it has.
+bool Planner::limit_to_reach(Block& b, bool from_rest, double d_more, double a_more, double j_more) const {
+  if (!(b.base_a > 0) || !(b.base_j > 0) || b.seg.kind != SegmentKind::Poly || b.stop_a0 > 0 || !(b.length > 0)) return false;
+  if (!std::isfinite(b.j_mm_s3) || !(b.v_cap_mm_s > 0)) return false;
+  SegmentLimits l;
+  double A = 0, J = 0;
+  const auto at = [&](double c) {
+    l = segment_limits(b.seg, limits_, config_.centripetal_share, std::min(c, b.relimit_v), b.relimit_norm);
+    const double fa = l.a_max_mm_s2 / b.base_a, fj = l.j_max_mm_s3 / b.base_j;
+    if (!std::isfinite(fa) || !std::isfinite(fj) || !(fa > 0) || !(fj > 0)) return false;
+    A = b.a_mm_s2 * std::max(1.0, fa);
+    J = b.j_mm_s3 * std::max(1.0, fj);
+    return true;
+  };
+  double hi = b.v_cap_mm_s, lo = 0;
+  // Entered from rest (from_rest): from any state the path can reach there, (v, a) with v within the
+  // reach and a ≤ A, the guard's brake first brings a down to 0 and gains a²/2J on the way; that too
+  // must stay under the cap, or the guard would hold the path below its reach where it accelerates
+  // (10 % slower on a run of tiny collinear pieces). Left at rest, every brake ends at that rest:
+  // its speed never exceeds the reach itself.
+  const auto reach = [&] {
+    const double a = std::max(A, a_more), j = std::max(J, j_more);
+    return reach_from_rest(b.length + d_more, a, j) + (from_rest ? 0.5 * a * a / j : 0.0);
+  };
+  A = b.a_mm_s2, J = b.j_mm_s3;  // the limits only rise as the cap falls: reached already, nothing to do
+  if (reach() >= hi || !at(hi) || reach() >= hi) return false;
+  for (int it = 0; it < 12; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    if (!at(mid)) return false;
+    (reach() < mid ? hi : lo) = mid;
+  }
+  if (!at(hi)) return false;
+  b.v_cap_mm_s = b.v_split_mm_s = hi;
+  b.a_mm_s2 = A;
+  b.j_mm_s3 = J;
+  b.law = TangentLaw::constant(A);
+  b.base_a = l.a_max_mm_s2;  // what limit_for_stop's ratios start from
+  b.base_j = l.j_max_mm_s3;
+  b.relimit_v = std::min(b.relimit_v, hi);
+  return true;
+}
+
 // rt-safe. Appends a block: its junction limit with the block before it, then the backward pass.
 void Planner::commit(const Block& b) {
   auto& ring = queue_.ring_;
@@ -1216,6 +1283,42 @@ void Planner::commit(const Block& b) {
         prev.j_mm_s3 *= f_prev;
         break;
       }
+    }
+  }
+  // An exact stop (or the window's start) before nb: the blocks on either side run from or to rest.
+  if (config_.limit_to_reach) {
+    // Forwards from the last rest point: nothing has planned into nb yet.
+    if (nb.v2_junction == 0) reach_d_ = reach_a_ = reach_j_ = 0;
+    if (reach_d_ >= 0) {
+      if (limit_to_reach(nb, true, reach_d_, reach_a_, reach_j_)) nb.v2_junction = std::min(nb.v2_junction, nb.v_cap_mm_s * nb.v_cap_mm_s);
+      reach_d_ += nb.length;
+      reach_a_ = std::max(reach_a_, nb.a_mm_s2);
+      reach_j_ = std::max(reach_j_, nb.j_mm_s3);
+      double v_top2 = 0;
+      for (std::size_t i = 0; i < core::kMaxAxes; ++i)
+        if (limits_.present(i)) v_top2 += limits_.axis[i].v_max_mm_s * limits_.axis[i].v_max_mm_s;
+      if (!std::isfinite(reach_j_) || reach_from_rest(reach_d_, reach_a_, reach_j_) >= std::sqrt(v_top2)) reach_d_ = -1;
+    }
+  }
+  if (config_.limit_to_reach && nb.v2_junction == 0) {
+    if (!from_rest) {
+      // Backwards from the stop, while a motion coming to rest there could still be below a cap.
+      double d = 0, a_max = 0, j_max = 0, v_top2 = 0;
+      for (std::size_t i = 0; i < core::kMaxAxes; ++i)
+        if (limits_.present(i)) v_top2 += limits_.axis[i].v_max_mm_s * limits_.axis[i].v_max_mm_s;
+      bool changed = false;
+      for (std::size_t k = ring.size() - 1, walked = 0; k-- > 0 && walked++ < kReachBlocks;) {
+        Block& pb = ring.at(k);
+        if (limit_to_reach(pb, false, d, a_max, j_max)) {
+          pb.v2_junction = std::min(pb.v2_junction, pb.v_cap_mm_s * pb.v_cap_mm_s);
+          changed = true;
+        }
+        d += pb.length;
+        a_max = std::max(a_max, pb.a_mm_s2);
+        j_max = std::max(j_max, pb.j_mm_s3);
+        if (pb.v2_junction == 0 || !std::isfinite(j_max) || reach_from_rest(d, a_max, j_max) >= std::sqrt(v_top2)) break;
+      }
+      if (changed) ring.touch();  // readers that keep what they derived from the blocks begin again
     }
   }
   queue_.unsettled_ = std::min(queue_.unsettled_ + 1, ring.size());

@@ -72,6 +72,10 @@ struct PlannerConfig {
   // its blend (Planner::join; docs/planner.md, "Blend or stop"). false: every corner that fits a
   // blend is blended.
   bool corner_stop_when_quicker = true;
+  // Jerk mode: a curve (Poly) block entered or left at rest takes the limits of the speed it can
+  // reach within its length, not those of its cap (Planner::limit_to_reach; docs/planner.md,
+  // "Blocks at rest"). A switch for comparisons and the tests.
+  bool limit_to_reach = true;
   double g2_blend_gain = 1.5;  // ... where its speed cap is at least this times the arc's corner speed
   // Jerk mode: an arc between two lines it is tangent to (a CAM fillet) is replaced by one quintic
   // from line to line within P of the three (docs/planner.md, "Fillets") where that quintic's speed
@@ -162,6 +166,11 @@ class Planner {
   PlanResult emit_stage();
   void commit(const Block& b);
   void dense_cap(Block& b);  // see kDenseBlocks
+  // A Poly block entered or left at rest gets the limits of the speed it can reach (see planner.cpp).
+  bool limit_to_reach(Block& b, bool from_rest, double d_more, double a_more, double j_more) const;
+  // Since the last rest point: distance, largest acceleration and jerk (−1: too far to matter).
+  double reach_d_ = -1, reach_a_ = 0, reach_j_ = 0;
+  static constexpr std::size_t kReachBlocks = 64;  // the blocks before a new stop limit_to_reach looks at
   void kink(Block& a, Block& b) const;
   // Speed at which a and b's corner may be crossed unblended (0: an exact stop).
   double kink_speed(const Block& a, const Block& b) const;

@@ -208,3 +208,115 @@ TEST(PlannerPoly, P5_AStopRaisesACurvesLimitsToWhatItsSpeedAllows) {
   EXPECT_GE(ring.at(k).j_mm_s3, at20.j_mm_s3);
   EXPECT_EQ(ring.at(k).v_cap_mm_s, 5);
 }
+
+// A curve entered or left at rest (exact stops on both sides here) can never run faster than it
+// reaches from rest within its length, whatever its cap: its limits are derived for that speed, a
+// cap it never meets, with the tangential acceleration and jerk the curvature terms leave there
+// (Planner::limit_to_reach; docs/planner.md, "Blocks at rest"). Every limit kept in the trace, and
+// the curve is crossed quicker than with the limits of its cap.
+TEST(PlannerPoly, ACurveEnteredOrLeftAtRestTakesTheLimitsOfTheSpeedItReaches) {
+  auto lim = xyz_limits(100, 1000);
+  for (int i = 0; i < 3; ++i) lim.axis[i].j_max_mm_s3 = 10000;
+  PathRequest hook;
+  // An arc of R20 through 0.05 rad as a Bézier: its cap is the feed, its length 1 mm.
+  const double th = 0.05, h = 4.0 / 3 * std::tan(th / 4) * 20;
+  const core::Vec p3 = xyz(10 + 20 * std::sin(th), 20 - 20 * std::cos(th));
+  hook.geom = make_cubic_bezier(xyz(10, 0), xyz(10 + h, 0), xyz(p3[0] - h * std::cos(th), p3[1] - h * std::sin(th)), p3);
+  hook.feed_mm_s = 100;
+  hook.tag = 1;
+  hook.tolerance_mm = 0;
+  hook.mergeable = false;
+  const std::vector<PathRequest> reqs{line_req(xyz(10, -10), xyz(10, 0), 100, 0, 0), hook,
+                                      line_req(p3, p3 + xyz(0, 10), 100, 2, 0)};
+  const auto curve_block = [&](const PlannerConfig& pc) {
+    Planner planner(lim, 64, pc);
+    for (const auto& r : reqs) EXPECT_EQ(planner.push(r), PlanResult::Ok);
+    planner.flush();
+    for (std::size_t i = 0; i < planner.queue().ring().size(); ++i)
+      if (planner.queue().ring().at(i).seg.kind == SegmentKind::Poly) return planner.queue().ring().at(i);
+    ADD_FAILURE() << "no curve block";
+    return Block{};
+  };
+  PlannerConfig off;
+  off.limit_to_reach = false;
+  const Block on_b = curve_block({}), off_b = curve_block(off);
+  EXPECT_EQ(on_b.v2_junction, 0.0);  // entered at rest
+  EXPECT_LT(on_b.v_cap_mm_s, 0.8 * off_b.v_cap_mm_s);
+  EXPECT_GT(on_b.a_mm_s2, 1.2 * off_b.a_mm_s2);
+  EXPECT_GT(on_b.j_mm_s3, 1.2 * off_b.j_mm_s3);
+  // The cap it got is at least what it reaches from rest with the limits it got (never met).
+  const double A = on_b.a_mm_s2, J = on_b.j_mm_s3, L = on_b.length;
+  const double d1 = A * A * A / (6 * J * J);
+  const double reach = L <= d1 ? 0.5 * J * std::pow(6 * L / J, 2.0 / 3.0)
+                               : std::sqrt(A * A * A * A / (4 * J * J) + 2 * A * (L - d1));
+  EXPECT_GE(on_b.v_cap_mm_s, reach);
+  EXPECT_LT(on_b.v_cap_mm_s, 1.01 * reach);
+  const auto on = run_path(lim, reqs, 64);
+  const auto slow = run_path(lim, reqs, 64, off);
+  ASSERT_TRUE(on.finished && slow.finished);
+  for (const auto* r : {&on, &slow}) {
+    EXPECT_LE(r->fig.v_ratio, 1 + 1e-9) << r->fig.describe();
+    EXPECT_LE(r->fig.a_ratio, 1 + 1e-6) << r->fig.describe();
+    EXPECT_LE(r->fig.j_ratio, 1 + 1e-3) << r->fig.describe();
+    EXPECT_LE(r->block_v_ratio, 1 + 1e-9);
+  }
+  // Cap 100 → 32.9 mm/s, acceleration 340 → 946 mm/s², jerk 5 500 → 7 911 mm/s³: 796 cycles against 816.
+  EXPECT_LT(on.cycles + 15, slow.cycles) << on.cycles << " against " << slow.cycles;
+}
+
+// Chains of short curves with exact stops here and there, streamed into short windows, so that a
+// stop often arrives while the path already runs through the curves before it: the caps those
+// curves then get (their reach before the stop) are never under the path, and every limit holds
+// (the trace against the axes, the path speed against the executing block's cap).
+TEST(PlannerPoly, CurvesLimitedToTheirReachAtStopsKeepEveryLimit) {
+  double t_on = 0, t_off = 0;
+  for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(0, 1);
+    auto lim = xyz_limits(100, 1000);
+    for (int i = 0; i < 3; ++i) lim.axis[i].j_max_mm_s3 = 10000;
+    std::vector<PathRequest> reqs;
+    core::Vec at = xyz(0, 0);
+    double heading = 0;
+    for (int k = 0; k < 24; ++k) {
+      const bool stop = u(rng) < 0.3;
+      if (stop) heading += (u(rng) < 0.5 ? -1 : 1) * (0.5 + 1.5 * u(rng));  // a corner: an exact stop
+      const double len = 0.2 + 3 * u(rng) * u(rng), turn = (u(rng) * 2 - 1) * 0.6;  // gentle, short
+      const double h = 4.0 / 3 * std::tan(turn / 4) * (len / std::max(1e-9, std::abs(turn)));
+      const core::Vec d0 = xyz(std::cos(heading), std::sin(heading));
+      const core::Vec p3 = at + xyz(std::cos(heading + turn / 2), std::sin(heading + turn / 2)) * len;
+      const core::Vec d1 = xyz(std::cos(heading + turn), std::sin(heading + turn));
+      const double hl = std::abs(turn) > 1e-6 ? std::abs(h) : len / 3;  // handles of an arc through `turn`
+      PathRequest r;
+      r.geom = make_cubic_bezier(at, at + d0 * hl, p3 - d1 * hl, p3);
+      r.feed_mm_s = 40 + 60 * u(rng);
+      r.tag = static_cast<std::uint32_t>(k);
+      r.tolerance_mm = stop ? 0 : -1;
+      r.mergeable = false;
+      reqs.push_back(r);
+      at = p3;
+      heading += turn;
+    }
+    for (const std::size_t cap : {std::size_t{3}, std::size_t{8}, std::size_t{64}}) {
+      for (const bool reach : {true, false}) {
+        PlannerConfig pc;
+        pc.limit_to_reach = reach;
+        const auto res = run_path(lim, reqs, cap, pc);
+        const std::string what = "seed " + std::to_string(seed) + " window " + std::to_string(cap) + (reach ? " reach" : "");
+        ASSERT_EQ(res.error, PlanResult::Ok) << what;
+        ASSERT_TRUE(res.finished) << what;
+        EXPECT_LE(res.fig.v_ratio, 1.01) << what << ": " << res.fig.describe();
+        EXPECT_LE(res.fig.a_ratio, 1.01) << what << ": " << res.fig.describe();
+        EXPECT_LE(res.fig.j_ratio, 1.01) << what << ": " << res.fig.describe();
+        EXPECT_LE(res.block_v_ratio, 1 + 1e-9) << what;
+        EXPECT_LE(res.block_a_ratio, 1 + 1e-6) << what;
+        EXPECT_LE(res.fig.deviation_mm, 1e-6) << what << ": " << res.fig.describe();
+        EXPECT_EQ(res.end, reqs.back().geom.end) << what;
+        (reach ? t_on : t_off) += static_cast<double>(res.cycles);
+      }
+      if (HasFailure()) return;
+    }
+  }
+  EXPECT_LT(t_on, 0.99 * t_off) << t_on << " cycles against " << t_off;
+  std::printf("curves at stops: %.0f cycles limited to their reach, %.0f with the limits of their caps\n", t_on, t_off);
+}
