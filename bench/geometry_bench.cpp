@@ -22,9 +22,12 @@ core::Vec xy(double x, double y, double z = 0) {
 
 motion::Segment line() { return motion::make_line(xy(0, 0), xy(100, 40, 5)); }
 motion::Segment helix() { return motion::make_arc(xy(10, 0), xy(10, 0, 5), 0, 1, 0, 0, 1); }
-// A G-code arc whose end is off its circle by the program's rounding (plasma.ngc's notch: 0.54 µm):
-// a spiral, whose angle at s takes a Newton step on its closed-form length.
-motion::Segment slight_spiral() { return motion::make_arc(xy(31.62, 18.835), xy(38.54, 14.839), 0, 1, 35, 16.699, -1); }
+// A G-code arc whose end is off its circle by the program's rounding (R5 through 1 rad, its end to
+// four decimals: 8 µm off): a slight spiral, whose angle at s is the root of a quadratic.
+motion::Segment slight_spiral() { return motion::make_arc(xy(5, 0), xy(2.7015, 4.2074), 0, 1, 0, 0, 1); }
+// A tiny arc 18 µm off on R0.5 through 0.1 rad: its dr/dφ is 3.6e-4 of the radius, past the
+// quadratic's reach: Newton steps on the closed-form length.
+motion::Segment notch_spiral() { return motion::make_arc(xy(0.5, 0), xy(0.49752, 0.04992), 0, 1, 0, 0, 1); }
 // A tiny arc within the interpreter's allowance: r 0.01 → 0.037 mm, a few Newton steps.
 motion::Segment strong_spiral() { return motion::make_arc(xy(10, 10), xy(10.047, 10), 0, 1, 10.01, 10, -1); }
 motion::Segment cubic() { return motion::make_cubic_bezier(xy(0, 0), xy(30, 80), xy(90, -60), xy(100, 20, 5)); }
@@ -77,6 +80,7 @@ BENCHMARK(BM_Point<quintic_nurbs_piece>)->Name("GeometryPoint/QuinticNurbs");
 BENCHMARK(BM_Point<thesis_polynomial>)->Name("GeometryPoint/NewtonThesis");
 BENCHMARK(BM_Frame<helix>)->Name("GeometryFrame/Helix");
 BENCHMARK(BM_Frame<slight_spiral>)->Name("GeometryFrame/SlightSpiral");
+BENCHMARK(BM_Frame<notch_spiral>)->Name("GeometryFrame/NotchSpiral");
 BENCHMARK(BM_Frame<strong_spiral>)->Name("GeometryFrame/StrongSpiral");
 BENCHMARK(BM_Frame<cubic>)->Name("GeometryFrame/CubicBezier");
 BENCHMARK(BM_Frame<thesis_polynomial>)->Name("GeometryFrame/NewtonThesis");

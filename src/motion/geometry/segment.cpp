@@ -32,11 +32,21 @@ double spiral_length(double r0, double q0, double b, double phi) {
 struct SpiralAngle {
   double phi, r, q;  // angle turned, radius there, √(r² + b²) = dσ/dφ
 };
-// The angle at in-plane length σ: Newton on spiral_length from the root of its second-order
-// expansion r0·φ + b·φ²/2 = σ, which is already within (b/r)² of it (one step for G-code's slight
-// spirals, a few for strong ones). Newton's next error is at most |b|·d²/(2q) for a step d: the loop
+// The angle at in-plane length σ. Otherwise Newton on spiral_length from the root of its
+// second-order expansion r0·φ + b·φ²/2 = σ, which is already within (b/r)² of it (a step or two
+// for slight spirals, a few for strong ones). Newton's next error is at most |b|·d²/(2q) for a step d: the loop
 // ends when that is below rounding. rt-safe.
 SpiralAngle spiral_angle(double r0, double b, double sigma, double phi_max) {
+  const double r1 = r0 + b * phi_max, r_min = std::min(r0, r1);
+  if (std::abs(b) <= 1e-4 * r_min && std::abs(r1 - r0) <= 1e-3 * r_min) {
+    // G-code's slight spirals (the program's rounding): with ε = b/r within 1e-4 and x = b·φ/r0
+    // within 1e-3, σ = (r0 + b²/2r0)·φ + (b/2 − b³/4r0²)·φ² to 2e-15 of itself (the next terms
+    // are ε⁴/8 and ε²·x²/6 of it): a quadratic, whose root is the angle.
+    const double B = r0 + 0.5 * b * b / r0, C = 0.5 * b - 0.25 * b * b * b / (r0 * r0);
+    const double phi = std::clamp(2 * sigma / (B + std::sqrt(B * B + 4 * C * sigma)), 0.0, phi_max);
+    const double r = r0 + b * phi;
+    return {phi, r, std::sqrt(r * r + b * b)};
+  }
   const double q0 = std::sqrt(r0 * r0 + b * b);
   const double den = r0 + std::sqrt(std::max(0.0, r0 * r0 + 2 * b * sigma));
   double phi = std::clamp(den > 0 ? 2 * sigma / den : sigma / q0, 0.0, phi_max);

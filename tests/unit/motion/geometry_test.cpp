@@ -221,6 +221,45 @@ TEST(Geometry, StrongSpiralsAreParameterisedByArcLength) {
   }
 }
 
+// The angle at s, in each of the three ways segment.cpp finds it (a circle's linear angle; the
+// quadratic root for G-code's slight spirals, dr/dφ within 1e-4 and the opening within 1e-3 of the
+// radius; Newton on the closed-form length for the rest): the in-plane length up to the point's own
+// angle, integrated here by Simpson's rule in long double, is s's in-plane share to 1e-13.
+TEST(Geometry, SpiralPointsLieAtTheirArcLengthToRounding) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int t = 0; t < 300; ++t) {
+    const double r0 = 0.05 + 20 * u(rng), sweep = (u(rng) * 2 - 1) * 7, th0 = 6.283 * u(rng);
+    const double open = std::pow(10.0, -8 + 8 * u(rng)) * (u(rng) < 0.5 ? -0.9 : 1);  // dr / r0
+    const double r1 = r0 * (1 + open), rise = t % 3 ? 0.0 : r0 * (u(rng) * 2 - 1);
+    const int turns = (sweep < 0 ? -1 : 1) * (static_cast<int>(std::abs(sweep) / 6.283185307179586) + 1);
+    const auto g = make_arc(xy(r0 * std::cos(th0), r0 * std::sin(th0), 0),
+                            xy(r1 * std::cos(th0 + sweep), r1 * std::sin(th0 + sweep), rise), 0, 1, 0, 0, turns);
+    const long double b = static_cast<long double>(g.dradius) / std::abs(g.sweep), rr0 = g.radius;
+    const auto plane_len = [&](long double phi) {  // ∫0^φ √(r² + b²), Simpson, 2000 intervals
+      const int n = 2000;
+      const long double h = phi / n;
+      long double sum = 0;
+      for (int k = 0; k <= n; ++k) {
+        const long double r = rr0 + b * h * k, f = std::sqrt(r * r + b * b);
+        sum += f * (k == 0 || k == n ? 1 : k % 2 ? 4 : 2);
+      }
+      return sum * h / 3;
+    };
+    const long double total = plane_len(std::abs(g.sweep));
+    EXPECT_NEAR(static_cast<double>(total / (g.plane_rate * g.length)), 1, 1e-14) << t;
+    for (int k = 1; k < 8; ++k) {
+      const double s = g.length * k / 8;
+      const core::Vec p = g.point(s);
+      const double sg = g.sweep > 0 ? 1 : -1, expect = std::abs(g.sweep) * k / 8;
+      double phi = sg * (std::atan2(p[1], p[0]) - g.theta0);
+      phi += 6.283185307179586 * std::round((expect - phi) / 6.283185307179586);
+      EXPECT_NEAR(static_cast<double>(plane_len(phi) / total), g.plane_rate * s / static_cast<double>(total), 1e-13)
+          << "case " << t << " open " << open << " s " << s;
+    }
+  }
+}
+
 // The planner cuts an arc back where it blends its end: the piece must be the same curve, point
 // for point, tangent and curvature included (a spiral helix: radius, angle and height all move).
 TEST(Geometry, TrimmedArcIsTheSameCurveBetweenItsCuts) {
