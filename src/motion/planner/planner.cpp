@@ -153,15 +153,18 @@ constexpr double kArcTangentJerkShare = 0.4, kArcSpeedJerkShare = 0.2, kArcAccJe
 // point is off its circle by the program's rounding is a slight spiral (Segment::dradius), |κ'| =
 // κ²·ρ with ρ about |dradius|/length: the scale takes ρ·⅕ onto the last term. Helices and
 // blends keep the sum.
-double circle_jerk_scale(double rho) {
-  const double tv = kArcTangentJerkShare + kArcSpeedJerkShare, ac = kArcAccJerkShare + rho * kArcSpeedJerkShare;
+// `speed_share`: the v³κ² share (kArcSpeedJerkShare, or less where the arc never runs as fast as
+// that share allows: segment_limits).
+double circle_jerk_scale(double rho, double speed_share = kArcSpeedJerkShare) {
+  const double tv = kArcTangentJerkShare + speed_share, ac = kArcAccJerkShare + rho * speed_share;
   return 1 / std::sqrt(tv * tv + ac * ac);
 }
 // `k_speed` bounds the axis's speed term over v³: κ²·amp_t on a plane curve (it runs along T).
-void curve_jerk(SegmentLimits& l, double j_axis, double amp_t, double k_speed, double scale = 1) {
+void curve_jerk(SegmentLimits& l, double j_axis, double amp_t, double k_speed, double scale = 1,
+                double speed_share = kArcSpeedJerkShare) {
   if (!(j_axis > 0)) return;
   if (amp_t > 1e-12) l.j_max_mm_s3 = std::min(l.j_max_mm_s3, scale * kArcTangentJerkShare * j_axis / amp_t);
-  if (k_speed > 0) l.v_max_mm_s = std::min(l.v_max_mm_s, std::cbrt(scale * kArcSpeedJerkShare * j_axis / k_speed));
+  if (k_speed > 0) l.v_max_mm_s = std::min(l.v_max_mm_s, std::cbrt(scale * speed_share * j_axis / k_speed));
 }
 // The 3·v·a_t·κ term of arcs and blend arcs, once the speed cap is known (kArcAccJerkShare of j_max;
 // Poly curves take theirs in segment_limits, kPolyAccJerkShare at least).
@@ -233,17 +236,40 @@ SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double 
     const auto ab = g.arc_bounds();  // a spiral (end off the circle) bounds its tangent and curvature
     const double inplane = ab.inplane, kappa = ab.kappa;
     const double rho = plane_arc_spiral(g);  // ∞: a helix or a real spiral (the plain sum of the shares)
-    const double circle_scale = std::isfinite(rho) ? circle_jerk_scale(rho) : 1.0;
     // The speed term: v³κ² on a plane arc. A helix's in-plane axes run a circle at v·inplane, so
     // theirs is v³·|d³p/ds³| in the plane (ArcBounds::k_speed, κ²/inplane on a circular helix):
     // larger than v³κ² by 1/inplane, tenfold on a helix ten times steeper than its radius.
     const double k_speed = std::max(kappa * kappa, is_helix(g) ? ab.k_speed : 0.0);
+    // An arc that will never be asked to run as fast as its curvature allows (v_target: the feed at
+    // the highest override, under the axes' speeds) keeps of the centripetal share and of the speed
+    // term's jerk share only what that speed needs, and gives the rest to the tangential
+    // acceleration and jerk, as Poly pieces do (below): its cap is then that speed. The speed share
+    // is taken for the smallest scale (the full share's), so the cap is never below v_target.
+    double vt = v_target;
+    for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
+      const double d = i == g.axis0 || i == g.axis1 ? inplane : std::abs(g.linear[i]);
+      if (d >= 1e-12) vt = std::min(vt, lim.axis[i].v_max_mm_s / d);
+    }
+    double speed_share = kArcSpeedJerkShare;
+    if (std::isfinite(vt) && vt > 0 && k_speed > 0 && inplane >= 1e-12) {
+      const double s0 = std::isfinite(rho) ? circle_jerk_scale(rho) : 1.0;
+      double need = 0;
+      for (std::size_t i : {std::size_t{g.axis0}, std::size_t{g.axis1}})
+        if (lim.axis[i].j_max_mm_s3 > 0) need = std::max(need, vt * vt * vt * k_speed / (s0 * lim.axis[i].j_max_mm_s3));
+      speed_share = std::min(kArcSpeedJerkShare, need);
+    }
+    // A helix or a real spiral keeps the plain sum of the shares: what the speed term does not take
+    // goes to the other two in proportion (1 with the full share, as before).
+    const double circle_scale = std::isfinite(rho) ? circle_jerk_scale(rho, speed_share)
+                                                   : 1 / (kArcTangentJerkShare + speed_share + kArcAccJerkShare);
     for (std::size_t i : {std::size_t{g.axis0}, std::size_t{g.axis1}}) {
       if (inplane < 1e-12) break;
+      const double am = lim.axis[i].a_max_mm_s2;
+      const double cn_i = std::isfinite(vt) ? std::min(cn, kappa * vt * vt / am) : cn;
       v = std::min(v, lim.axis[i].v_max_mm_s / inplane);
-      a = std::min(a, ct * lim.axis[i].a_max_mm_s2 / inplane);
-      if (kappa > 0) v = std::min(v, std::sqrt(cn * lim.axis[i].a_max_mm_s2 / kappa));
-      curve_jerk(l, lim.axis[i].j_max_mm_s3, inplane, k_speed, circle_scale);
+      a = std::min(a, std::sqrt(std::max(0.0, 1 - cn_i * cn_i)) * am / inplane);
+      if (kappa > 0) v = std::min(v, std::sqrt(cn_i * am / kappa));
+      curve_jerk(l, lim.axis[i].j_max_mm_s3, inplane, k_speed, circle_scale, speed_share);
     }
     for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
       const double d = std::abs(g.linear[i]);

@@ -1234,6 +1234,43 @@ TEST(PlannerJerk, CurvatureStepsNextToPlaneCirclesKeepTheEuclideanBound) {
   EXPECT_DOUBLE_EQ(jerk_left_by_step(step, line, 0, v, lim), 1 - used);
 }
 
+// An arc that will never be asked to run as fast as its curvature allows (its feed at the highest
+// override, v_target) keeps of the centripetal share and of the v³κ² jerk share only what that speed
+// needs and gives the rest to its tangential acceleration and jerk, as Poly pieces do: an R20 arc at
+// F1200 (40 mm/s at 200 %) on 100 mm/s, 1 000 mm/s², 10 000 mm/s³ axes may accelerate at 997 mm/s²
+// instead of 378 with a tangential jerk of 6 970 mm/s³ instead of 5 550, within every limit.
+TEST(PlannerJerk, AnArcSlowerThanItsCurvatureAllowsGivesTheRestToItsTangentialAcceleration) {
+  const auto lim = jerk_limits(100, 1000, 10'000);
+  const Segment arc = make_arc(xyz(20, 0), xyz(-20, 0), 0, 1, 0, 0, 1);  // R20 half circle
+  const SegmentLimits fast = segment_limits(arc, lim, 0.8), slow = segment_limits(arc, lim, 0.8, 40);
+  EXPECT_GE(slow.v_max_mm_s, 40);  // never below what it is asked for
+  EXPECT_LT(slow.v_max_mm_s, 45);
+  EXPECT_GT(fast.v_max_mm_s, 95);
+  EXPECT_GT(slow.a_max_mm_s2, 2.5 * fast.a_max_mm_s2);
+  EXPECT_GT(slow.j_max_mm_s3, 1.2 * fast.j_max_mm_s3);
+  // From rest at its start (an exact stop after a line along Y) to its feed.
+  PathRequest r = arc_req(arc, 20, 1);
+  r.tolerance_mm = 0;
+  const std::vector<PathRequest> reqs{line_req(xyz(20, -10), xyz(20, 0), 20, 0, 0), r};
+  std::vector<core::Vec> trace;
+  const auto res = run_path(lim, reqs, 64, {}, {}, 20'000'000, {}, &trace);
+  ASSERT_TRUE(res.finished);
+  EXPECT_LE(res.fig.v_ratio, 1 + 1e-9) << res.fig.describe();
+  EXPECT_LE(res.fig.a_ratio, 1 + 1e-6) << res.fig.describe();
+  EXPECT_LE(res.fig.j_ratio, 1 + 1e-3) << res.fig.describe();
+  EXPECT_LE(res.block_v_ratio, 1 + 1e-9);
+  EXPECT_LE(res.block_a_ratio, 1 + 1e-6);
+  // From rest to 20 mm/s the ramp is all jerk phases: the path jerk on the arc (y > 0) is the larger.
+  double j_path = 0;
+  const auto v_at = [&](std::size_t k) { return core::norm(trace[k] - trace[k - 1]) / lim.period_s; };
+  for (std::size_t k = 4; k < trace.size(); ++k) {
+    if (trace[k - 4][1] <= 1e-9) continue;
+    const double a1 = (v_at(k) - v_at(k - 1)) / lim.period_s, a0 = (v_at(k - 1) - v_at(k - 2)) / lim.period_s;
+    j_path = std::max(j_path, std::abs(a1 - a0) / lim.period_s);
+  }
+  EXPECT_GT(j_path, 1.15 * fast.j_max_mm_s3) << j_path << " mm/s³ against " << fast.j_max_mm_s3;
+}
+
 // A G-code arc whose end is off its circle by the program's rounding (a slight spiral, Segment::
 // dradius) keeps the Euclidean bound of its jerk shares, less the spiral's own term v³·|κ'|:
 // plane_arc_spiral bounds |κ'|/κ² at twice |dradius|/length (measured here on the segment's own
