@@ -89,16 +89,17 @@ __attribute__((always_inline)) inline RampPhases ramp_phases(const ProfileState&
 // largest speed on it, and the largest |a| from each phase on.
 struct BrakeRamp {
   static constexpr int kPhases = 4;
-  std::array<ProfileState, kPhases> at{};  // state at the start of each phase, s from x
-  std::array<double, kPhases> jerk{}, dur{};
+  std::array<ProfileState, kPhases> at;  // state at the start of each phase, s from x
+  std::array<double, kPhases> jerk, dur;
   // Largest |a| from the start of phase i to rest: filled only when the ramp has a phase 0 (|x.a|
   // above a: the certificate reads it, and a_after, only while phase 0 lasts), else left as it was.
-  std::array<double, kPhases + 1> a_from{};
-  double d_stop = 0;
-  double v_up = 0;
+  std::array<double, kPhases + 1> a_from;
+  double d_stop, v_up;
 
-  BrakeRamp() = default;
   BrakeRamp(const ProfileState& x, double a, double j) { build(x, a, j); }
+  // Left unset, to be built before it is read (the certificate's: ~40 instructions a walk less).
+  struct Unset {};
+  explicit BrakeRamp(Unset) {}
   // Rebuilt in place (the certificate's walk rebuilds it at each lowered limit it must account for).
   void build(const ProfileState& x, double a, double j) {
     const RampPhases ph = ramp_phases(x, 0, a, j);
@@ -533,7 +534,7 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   const auto reach = [](double d) { return d * (1 + kRel) + kAbs + kTouch_mm; };  // d with rounding
   const auto clear = [](double d_need, double d_have) { return d_need * (1 + kRel) + kAbs <= d_have; };
   double a = acc(c.k), j = jerk(c.k);
-  BrakeRamp r;  // the ramp with the present (a, j), kept for the check below
+  BrakeRamp r{BrakeRamp::Unset{}};  // the ramp with the present (a, j), kept for the check below (built before it is read)
   bool r_built = false;
   double r_a = 0, r_j = 0;  // the limits r was built with
   const auto distance = [&] {
@@ -751,9 +752,10 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   // of them a stop, beyond where |a| is brought down (phase 0): each block's test passes there.
   const double v_up2 = r.v_up * r.v_up * (1 + 1e-12);
   const double phase0_end = r.dur[0] > 0 ? reach(r.at[1].s) : -kInf;
+  const double reach_stop = reach(r.d_stop);
   for (std::size_t k = c.k;;) {
     const double start = this->start(k) - p;
-    if (!(start <= reach(r.d_stop))) break;
+    if (!(start <= reach_stop)) break;
     if (k > c.k && start >= stop_at) {  // an exact stop or the window's end: reached at rest, never crossed
       // Only the rounding of a touch, not a fixed 1e-9 mm nor a share of the distance: the follower
       // may run this brake for hundreds of cycles (it is its last resort), and it ends past its
@@ -889,13 +891,12 @@ GuardVerdict JerkGuard::verify(const PathStep& step, const GuardMode& mode) cons
   Cursor c{0};
   if (!check(c, 0, v_now_, step, v) || v.failed()) return v;
   if (mode.certify) {
-    const GuardVerdict checked = v;
     std::size_t gate = 0;       // the first block of far lower acceleration the ramp entered (0: none)
     std::size_t jerk_gate = 0;  // the first block of far lower jerk it or π's scan reached (0: none)
     const Cert r = certify(step.x, step.x.s, c, v, mode.gate ? &gate : nullptr, mode.gate && mode.jerk_gate ? &jerk_gate : nullptr);
     if (r != Cert::Unknown) return v;
     for (const std::size_t k : {gate, jerk_gate != gate ? jerk_gate : 0}) {
-      GuardVerdict g = checked;
+      GuardVerdict g;  // v as check() left it: it writes a verdict only to fail
       if (k > 0 && certify_gated(step.x, step.x.s, c, k, g) == Cert::Safe) return g;
     }
     if (!mode.simulate && !(v.brake_s <= mode.simulate_up_to_s)) {  // refused, with the hint of where the ramp breaks a limit
