@@ -190,7 +190,7 @@ struct BrakeRamp {
 // the rise to its peak speed w = v + a0²/2j over v·t + a0·t²/3 (t = a0/j), then the ramp to rest
 // from (w, 0), symmetric in speed about its middle, so w times half its duration: w·(w/a + a/j)/2
 // where it reaches a (w·j ≥ a²), else w·√(w/j).
-double brake_distance_rising(const ProfileState& x, double a, double j) {
+__attribute__((always_inline)) inline double brake_distance_rising(const ProfileState& x, double a, double j) {
   const double t = x.a / j;
   const double w = x.v + 0.5 * x.a * t;
   const double rise = t * (x.v + x.a * t / 3);
@@ -637,6 +637,7 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   std::size_t ks = c.k + 1, ke = c.k + 1;
   double scan_x = scan(a, j);
   bool scan_stale = false;
+  std::size_t indexed = built();  // built(), kept here: only the walk's index_through calls change it
   for (;; ++ks) {
     // Enter the blocks ke < ks (indexed: the scan has read them) that the ramp reaches.
     while (ke < ks) {
@@ -671,7 +672,7 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
     }
     if (scan_stale) scan_x = scan(a, j), scan_stale = false;
     if (groups && (o + ks) % G == 0 && ks + G <= n_) {
-      if (ks + G > built()) index_through(ks + G - 1);
+      if (ks + G > indexed) index_through(ks + G - 1), indexed = built();
       const std::size_t q = (o + ks) / G;
       // Scanned whole only where one by one the walk would go through it without a refresh (the
       // ramp's distance is not monotonic in J while |a| above A is being brought down, and a lower
@@ -701,7 +702,7 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
         }
       }
     }
-    if (ks >= built()) index_through(ks);  // its start, and its limits when it is inside the window
+    if (ks >= indexed) index_through(ks), indexed = built();  // its start, and its limits when it is inside the window
     const double ss = (st[ks] - base_) - p;
     if (!reached(ss, scan_x)) {
       if (!dirty) break;
@@ -754,7 +755,8 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   const double phase0_end = r.dur[0] > 0 ? reach(r.at[1].s) : -kInf;
   const double reach_stop = reach(r.d_stop);
   for (std::size_t k = c.k;;) {
-    const double start = this->start(k) - p;
+    if (k > indexed) index_through(k - 1), indexed = built();  // (this->start(k), as in the walk)
+    const double start = (st[k] - base_) - p;
     if (!(start <= reach_stop)) break;
     if (k > c.k && start >= stop_at) {  // an exact stop or the window's end: reached at rest, never crossed
       // Only the rounding of a touch, not a fixed 1e-9 mm nor a share of the distance: the follower
@@ -766,9 +768,9 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
       break;
     }
     if (g.groups && k > c.k && (o + k) % G == 0 && k + G <= n_ && start >= kAbs && start > phase0_end) {
-      index_through(k + G - 1);
+      if (k + G > indexed) index_through(k + G - 1), indexed = built();
       const std::size_t q = (o + k) / G;
-      if (g.group_u2[q] > v_up2 && g.group_cap[q] >= r.v_up && this->start(k + G - 1) - p < stop_at) {
+      if (g.group_u2[q] > v_up2 && g.group_cap[q] >= r.v_up && (st[k + G - 1] - base_) - p < stop_at) {
         k += G;
         ++g_.groups_skipped;
         continue;
