@@ -602,8 +602,11 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   // (brake()), |a| ≤ A: the certificate takes its jerk over the same range, so it accepts no more
   // than π would (greedy steps that π refuses end up slower). When all of those blocks have
   // exactly A and J (uniform), π is this same ramp.
-  const auto scan = [&x, this](double a_, double j_) {
-    return (x.a > 0 ? x.v + x.a * x.a / (2 * j_) : x.v) * (a_ / j_ + 2 * dt_) + kTouch_mm;
+  // (Its invariants in registers: x.a², 2·dt, the sign; recomputed at about 15 lowered limits a walk.)
+  const double xa2 = x.a * x.a, two_dt = 2 * dt_, xv = x.v;
+  const bool rising = x.a > 0;
+  const auto scan = [xa2, two_dt, xv, rising](double a_, double j_) {
+    return (rising ? xv + xa2 / (2 * j_) : xv) * (a_ / j_ + two_dt) + kTouch_mm;
   };
   bool uniform = true;
   double stop_at = kInf;  // from p: the first exact stop or the window's end the walk meets
