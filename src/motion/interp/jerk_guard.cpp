@@ -757,6 +757,14 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   const double v_up2 = r.v_up * r.v_up * (1 + 1e-12);
   const double phase0_end = r.dur[0] > 0 ? reach(r.at[1].s) : -kInf;
   const double reach_stop = reach(r.d_stop);
+  // reach_speed of the last cap asked: blocks in a row often share a cap or junction speed (a
+  // polyline's identical corner blends), and it costs ~110 instructions where the ramp passes it.
+  double memo_cap = std::numeric_limits<double>::quiet_NaN(), memo_d = 0;
+  const auto reach_speed = [&](double cap) {
+    if (r.v_up <= cap) return 0.0;  // (reach_speed's own first answer)
+    if (!(cap == memo_cap)) memo_cap = cap, memo_d = r.reach_speed(cap);
+    return memo_d;
+  };
   for (std::size_t k = c.k;;) {
     if (k > indexed) index_through(k - 1), indexed = built();  // (this->start(k), as in the walk)
     const double start = (st[k] - base_) - p;
@@ -788,11 +796,11 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
       // (v_up² clearly below the junction's u²: reach_speed(u) is 0, no square root needed.)
       if (!(v_up2 < u2_k[k]) || !clear(0, start)) {
         const double u = std::sqrt(u2_k[k]);
-        if (!clear(r.reach_speed(u), start)) return broken(true, start, u, false);
+        if (!clear(reach_speed(u), start)) return broken(true, start, u, false);
       }
     }
     const double here = std::max(start, 0.0);
-    const auto over_cap = [&](double cap) { return k == c.k ? r.v_up > cap : !clear(r.reach_speed(cap), start); };
+    const auto over_cap = [&](double cap) { return k == c.k ? r.v_up > cap : !clear(reach_speed(cap), start); };
     if (over_cap(hard(k))) return broken(true, here, hard(k), false);
     if (over_cap(soft(k))) return broken(false, here, soft(k), false);  // the front's relaxed to v_now
     ++k;
