@@ -36,6 +36,37 @@ constexpr double kH = 1.0 / kArcTableIntervals;
 //   level n-1: R0 R1      →  H'  = n(R1 - R0),  H = (1-u)R0 + uR1
 // then the quotient rule for C = H / W.
 // ax[0 … m): the axes the curve moves (PolyCurve::moving); m = 0 before finalize found them: all.
+// One axis `a` of a polynomial Bézier of degree N ≥ 1: de Casteljau down to the last levels (the
+// arithmetic of the loop over any degree below, unrolled for N).
+template <std::size_t N>
+void poly_axis(const PolyCurve::BezierData& b, std::size_t a, double u, double v, CurveDerivs& d) {
+  std::array<double, N + 1> q;
+#pragma GCC unroll 8
+  for (std::size_t i = 0; i <= N; ++i) q[i] = b.hctrl[i][a];
+  // (Unrolled: -O2 keeps the loops, at twice the instructions of the arithmetic.)
+#pragma GCC unroll 8
+  for (std::size_t lvl = N; lvl > 2; --lvl)
+#pragma GCC unroll 8
+    for (std::size_t i = 0; i < lvl; ++i) q[i] = q[i] * v + q[i + 1] * u;
+  if constexpr (N >= 2) {
+    d.d2[a] = (q[2] - 2 * q[1] + q[0]) * static_cast<double>(N * (N - 1));
+    q[0] = q[0] * v + q[1] * u;
+    q[1] = q[1] * v + q[2] * u;
+  }
+  d.d1[a] = (q[1] - q[0]) * static_cast<double>(N);
+  d.c[a] = q[0] * v + q[1] * u;
+}
+// A polynomial Bézier of degree N on the axes ax[0 … m) it moves (PolyCurve::poly_axes); the others
+// stay at the first control point, with no derivative.
+template <std::size_t N>
+CurveDerivs poly_derivs(const PolyCurve::BezierData& b, double u, const std::uint8_t* ax, std::size_t m) {
+  const double v = 1 - u;
+  CurveDerivs d;
+  d.c = b.hctrl[0];
+  for (std::size_t j = 0; j < m; ++j) poly_axis<N>(b, ax[j], u, v, d);
+  return d;
+}
+
 CurveDerivs bezier_derivs(const PolyCurve::BezierData& b, std::size_t n, double u, const std::size_t* ax,
                           std::size_t m) {
   if (n == 3 && b.w[0] == 1 && b.w[1] == 1 && b.w[2] == 1 && b.w[3] == 1) {
@@ -152,7 +183,19 @@ void newton_eval(const PolyCurve::NewtonData& nd, std::size_t n, double x, doubl
 
 // rt-safe
 CurveDerivs PolyCurve::derivs(double u) const {
-  if (basis == PolyBasis::Bezier) return bezier_derivs(bez, degree, u, moving.data(), n_moving);
+  if (basis == PolyBasis::Bezier) {
+    // A polynomial piece whose moving axes finalize listed (the cubic has its own path below).
+    if (n_poly_axes != kAxesUnknown) {
+      switch (degree) {
+        case 1: return poly_derivs<1>(bez, u, poly_axes.data(), n_poly_axes);
+        case 2: return poly_derivs<2>(bez, u, poly_axes.data(), n_poly_axes);
+        case 4: return poly_derivs<4>(bez, u, poly_axes.data(), n_poly_axes);
+        case 5: return poly_derivs<5>(bez, u, poly_axes.data(), n_poly_axes);
+        default: break;
+      }
+    }
+    return bezier_derivs(bez, degree, u, moving.data(), n_moving);
+  }
   const double dx = newton.x_end - newton.x_begin;
   const double x = (1 - u) * newton.x_begin + u * newton.x_end;
   double p, dp, ddp;
@@ -303,21 +346,29 @@ double gl4(const F& f, double a, double b) { return gauss(kGl4X, kGl4W, f, a, b)
 // rt-safe
 double PolyCurve::arc(double a, double b) const { return gl16(SpeedEval(*this), a, b); }
 
-// rt-safe: bounded work (a 5-step table search, at most 64 Newton/bisection steps: Newton ends
-// in two or three, bisection takes more only next to a stationary end, as at a cusp: 8 left
-// 1e-7 mm there, 2.8 times one cycle of a 60 mm/s³ jerk).
-//
-//   table:  s_at[k] ≤ s < s_at[k+1]  →  u in [k/32, (k+1)/32]
-//   guess:  cubic Hermite of u(s) from du/ds = 1/|C'| at both ends (O(h⁴) for smooth curves)
-//   Newton: u ← u - (s(u) - s)/|C'(u)|, s(u) kept up to date by integrating each step's small
-//           interval; a step leaving the bracket falls back to bisection.
-double PolyCurve::param_at(double s) const {
-  const double len = length();
+namespace {
+// |C'(u)| of a polynomial Bézier from its stored |C'|² of degree D (PolyCurve::speed2): SpeedEval's
+// Horner pass and square root, unrolled for D (the same arithmetic, about half the instructions).
+template <std::size_t D>
+struct SpeedPoly {
+  const double* q2;
+  double operator()(double u) const {
+    double q = q2[D];
+#pragma GCC unroll 16
+    for (std::size_t i = 1; i <= D; ++i) q = q * u + q2[D - i];
+    return std::sqrt(std::max(0.0, q));
+  }
+};
+
+// PolyCurve::param_at with the speed |C'(u)| from speed_at.
+template <class F>
+double invert(const PolyCurve& c, double s, const F& speed_at) {
+  const double len = c.length();
   if (!(s > 0) || len <= 0) return 0;
   if (s >= len) return 1;
+  const auto& s_at = c.s_at;
   const auto it = std::upper_bound(s_at.begin(), s_at.end(), s);
   const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(it - s_at.begin()) - 1, kArcTableIntervals - 1);
-  const SpeedEval speed_at(*this);
   double lo = k * kH, hi = (k + 1) * kH;
   const double sa = s_at[k], sb = s_at[k + 1], ds = sb - sa;
   if (!(ds > 0)) return lo;
@@ -330,7 +381,7 @@ double PolyCurve::param_at(double s) const {
                            (t3 - t2) * ds / v1;
     if (hermite > lo && hermite < hi) u = hermite;
   }
-  const auto part = [&](double from, double to) { return gl8_ok ? gl8(speed_at, from, to) : gl16(speed_at, from, to); };
+  const auto part = [&](double from, double to) { return c.gl8_ok ? gl8(speed_at, from, to) : gl16(speed_at, from, to); };
   double acc = sa + part(lo, u);  // s(u)
   const double tol = 1e-12 * std::max(1.0, len);
   for (int iter = 0; iter < 64; ++iter) {
@@ -348,6 +399,32 @@ double PolyCurve::param_at(double s) const {
   }
   return u;
 }
+}  // namespace
+
+// rt-safe: bounded work (a 5-step table search, at most 64 Newton/bisection steps: Newton ends
+// in two or three, bisection takes more only next to a stationary end, as at a cusp: 8 left
+// 1e-7 mm there, 2.8 times one cycle of a 60 mm/s³ jerk).
+//
+//   table:  s_at[k] ≤ s < s_at[k+1]  →  u in [k/32, (k+1)/32]
+//   guess:  cubic Hermite of u(s) from du/ds = 1/|C'| at both ends (O(h⁴) for smooth curves)
+//   Newton: u ← u - (s(u) - s)/|C'(u)|, s(u) kept up to date by integrating each step's small
+//           interval; a step leaving the bracket falls back to bisection.
+double PolyCurve::param_at(double s) const {
+  // A polynomial Bézier: its stored |C'|² unrolled for its degree (the same values as SpeedEval).
+  if (basis == PolyBasis::Bezier && has_speed2) {
+    switch (speed2_degree) {
+      case 2: return invert(*this, s, SpeedPoly<2>{speed2.data()});
+      case 4: return invert(*this, s, SpeedPoly<4>{speed2.data()});
+      case 6: return invert(*this, s, SpeedPoly<6>{speed2.data()});
+      case 8: return invert(*this, s, SpeedPoly<8>{speed2.data()});
+      default: break;
+    }
+  }
+  return param_at_reference(s);
+}
+
+// rt-safe
+double PolyCurve::param_at_reference(double s) const { return invert(*this, s, SpeedEval(*this)); }
 
 // rt-safe
 bool stationary(const CurveDerivs& d) {
@@ -408,6 +485,19 @@ double PolyCurve::finalize(bool estimate) {
       moves = moves || std::abs(bez.hctrl[i][a] * bez.w[0] - bez.hctrl[0][a] * bez.w[i]) >
                            1e-14 * std::abs(bez.hctrl[0][a] * bez.w[i]);
     if (moves) moving[n_moving++] = a;
+  }
+  // A polynomial Bézier's axes whose control points differ at all (bezier_derivs' own test).
+  n_poly_axes = kAxesUnknown;
+  bool polynomial_piece = basis == PolyBasis::Bezier && degree >= 1 && degree <= kMaxBezierDegree;
+  for (std::size_t i = 0; polynomial_piece && i <= degree; ++i) polynomial_piece = bez.w[i] == 1;
+  if (polynomial_piece) {
+    std::uint8_t np = 0;
+    for (std::size_t a = 0; a < core::kMaxAxes; ++a) {
+      bool moves = false;
+      for (std::size_t i = 1; i <= degree; ++i) moves = moves || bez.hctrl[i][a] != bez.hctrl[0][a];
+      if (moves) poly_axes[np++] = static_cast<std::uint8_t>(a);
+    }
+    n_poly_axes = np;
   }
   fill_speed2(*this);
   s_at[0] = 0;

@@ -81,6 +81,14 @@ struct PolyCurve {
   // tangent and curvature are summed over these only (the same sums: the others add zeros).
   std::array<std::size_t, core::kMaxAxes> moving{};
   std::size_t n_moving = 0;
+  // The axes whose control points differ at all from the first one, ascending (finalize, polynomial
+  // Béziers of degree ≥ 1; kAxesUnknown otherwise): a polynomial piece other than the cubic fast
+  // path is evaluated on these only, instead of comparing every axis's control points at every
+  // evaluation (the same values: the others are constant). kAxesUnknown keeps the comparisons (the
+  // reference, for tests).
+  static constexpr std::uint8_t kAxesUnknown = 0xFF;
+  std::array<std::uint8_t, core::kMaxAxes> poly_axes{};
+  std::uint8_t n_poly_axes = kAxesUnknown;
 
   PolyCurve() {}
 
@@ -96,6 +104,9 @@ struct PolyCurve {
   double arc(double a, double b) const;
   // rt-safe: the parameter u at arc length s (clamped to [0, length]).
   double param_at(double s) const;
+  // rt-safe: the same through the general speed evaluation (param_at unrolls a polynomial's |C'|²
+  // for its degree: the reference for tests).
+  double param_at_reference(double s) const;
 
   // Fills s_at, the box and the sampled maxima. Called once by every constructor (allocates).
   // Returns the estimated error of the length table (mm): the sum over its intervals of

@@ -67,7 +67,9 @@ struct Cycle {
 struct RampPhases {
   std::array<double, 4> jerk{}, dur{};
 };
-RampPhases ramp_phases(const ProfileState& x, double vt, double a_max, double j_max) {
+// (Inlined: returned through memory, its phases cost ~40 instructions a call more.)
+__attribute__((always_inline)) inline RampPhases ramp_phases(const ProfileState& x, double vt, double a_max,
+                                                             double j_max) {
   RampPhases ph;
   ProfileState z{0, x.v, x.a, 0};
   if (std::abs(x.a) > a_max) {
@@ -87,19 +89,23 @@ RampPhases ramp_phases(const ProfileState& x, double vt, double a_max, double j_
 // largest speed on it, and the largest |a| from each phase on.
 struct BrakeRamp {
   static constexpr int kPhases = 4;
-  std::array<ProfileState, kPhases> at{};  // state at the start of each phase, s from x
-  std::array<double, kPhases> jerk{}, dur{};
-  std::array<double, kPhases + 1> a_from{};  // largest |a| from the start of phase i to rest
-  double d_stop = 0;
-  double v_up = 0;
+  std::array<ProfileState, kPhases> at;  // state at the start of each phase, s from x
+  std::array<double, kPhases> jerk, dur;
+  // Largest |a| from the start of phase i to rest: filled only when the ramp has a phase 0 (|x.a|
+  // above a: the certificate reads it, and a_after, only while phase 0 lasts), else left as it was.
+  std::array<double, kPhases + 1> a_from;
+  double d_stop, v_up;
 
-  BrakeRamp() = default;
   BrakeRamp(const ProfileState& x, double a, double j) { build(x, a, j); }
+  // Left unset, to be built before it is read (the certificate's: ~40 instructions a walk less).
+  struct Unset {};
+  explicit BrakeRamp(Unset) {}
   // Rebuilt in place (the certificate's walk rebuilds it at each lowered limit it must account for).
   void build(const ProfileState& x, double a, double j) {
     const RampPhases ph = ramp_phases(x, 0, a, j);
     ProfileState y{0, x.v, x.a, 0};
     v_up = x.v;
+#pragma GCC unroll 4
     for (int i = 0; i < kPhases; ++i) {
       at[i] = y;
       jerk[i] = ph.jerk[i];
@@ -113,7 +119,9 @@ struct BrakeRamp {
       v_up = std::max(v_up, y.v);
     }
     d_stop = y.s;
+    if (!(dur[0] > 0)) return;
     a_from[kPhases] = 0;
+#pragma GCC unroll 4
     for (int i = kPhases - 1; i >= 0; --i) {
       const double a_end = i + 1 < kPhases ? std::abs(at[i + 1].a) : 0.0;
       a_from[i] = std::max(std::max(a_from[i + 1], a_end), dur[i] > 0 ? std::abs(at[i].a) : 0.0);
@@ -143,6 +151,7 @@ struct BrakeRamp {
   // beyond it the speed stays at or below cap.
   double reach_speed(double cap) const {
     if (v_up <= cap) return 0;
+#pragma GCC unroll 4
     for (int i = 0; i < kPhases; ++i) {
       const ProfileState& y = at[i];
       const double j = jerk[i], t_end = dur[i];
@@ -181,7 +190,7 @@ struct BrakeRamp {
 // the rise to its peak speed w = v + a0²/2j over v·t + a0·t²/3 (t = a0/j), then the ramp to rest
 // from (w, 0), symmetric in speed about its middle, so w times half its duration: w·(w/a + a/j)/2
 // where it reaches a (w·j ≥ a²), else w·√(w/j).
-double brake_distance_rising(const ProfileState& x, double a, double j) {
+__attribute__((always_inline)) inline double brake_distance_rising(const ProfileState& x, double a, double j) {
   const double t = x.a / j;
   const double w = x.v + 0.5 * x.a * t;
   const double rise = t * (x.v + x.a * t / 3);
@@ -200,6 +209,7 @@ PathStep ramp_cycle(const ProfileState& x, double vt, double a_max, double j_max
   c.phase(ph.dur[0], ph.jerk[0]);
   if (c.left <= 0) return c.st;
   c.st.x.a = std::clamp(c.st.x.a, -a_max, a_max);
+#pragma GCC unroll 4
   for (int i = 1; i < 4; ++i) c.phase(ph.dur[i], ph.jerk[i]);
   if (c.left > 0) c.hold_rest(vt, 0);  // exactly the target once there
   return c.st;
@@ -462,8 +472,23 @@ bool JerkGuard::tail_safe(const ProfileState& x, double p, const Cursor& c) cons
 }
 
 
+// rt-safe. BrakeRamp's d_stop without its bookkeeping (speeds, |a| bounds, phase starts): where no
+// phase 0 brings |x.a| down, plan_ramp's three phases advanced as build() advances them (the same
+// operations, so the same distance to the bit) at about a third of the instructions.
+double JerkGuard::brake_distance(const ProfileState& x, double a, double j) {
+  if (std::abs(x.a) > a) return brake_distance_built(x, a, j);
+  ProfileState y{0, x.v, std::clamp(x.a, -a, a), 0};
+  const Ramp r = plan_ramp(y.v, y.a, 0, a, j);
+  if (r.t1 > 0) y = advance(y, r.dir * r.j, r.t1);
+  if (r.t2 > 0) y = advance(y, 0, r.t2);
+  if (r.t3 > 0) y = advance(y, -r.dir * r.j, r.t3);
+  return y.s;
+}
+
 // rt-safe
-double JerkGuard::brake_distance(const ProfileState& x, double a, double j) { return BrakeRamp({0, x.v, x.a, 0}, a, j).d_stop; }
+double JerkGuard::brake_distance_built(const ProfileState& x, double a, double j) {
+  return BrakeRamp({0, x.v, x.a, 0}, a, j).d_stop;
+}
 
 // rt-safe
 PathStep JerkGuard::anchored_brake(const ProfileState& now, double a, double j, double stop_mm) const {
@@ -509,7 +534,7 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   const auto reach = [](double d) { return d * (1 + kRel) + kAbs + kTouch_mm; };  // d with rounding
   const auto clear = [](double d_need, double d_have) { return d_need * (1 + kRel) + kAbs <= d_have; };
   double a = acc(c.k), j = jerk(c.k);
-  BrakeRamp r;  // the ramp with the present (a, j), kept for the check below
+  BrakeRamp r{BrakeRamp::Unset{}};  // the ramp with the present (a, j), kept for the check below (built before it is read)
   bool r_built = false;
   double r_a = 0, r_j = 0;  // the limits r was built with
   const auto distance = [&] {
@@ -577,8 +602,11 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   // (brake()), |a| ≤ A: the certificate takes its jerk over the same range, so it accepts no more
   // than π would (greedy steps that π refuses end up slower). When all of those blocks have
   // exactly A and J (uniform), π is this same ramp.
-  const auto scan = [&x, this](double a_, double j_) {
-    return (x.a > 0 ? x.v + x.a * x.a / (2 * j_) : x.v) * (a_ / j_ + 2 * dt_) + kTouch_mm;
+  // (Its invariants in registers: x.a², 2·dt, the sign; recomputed at about 15 lowered limits a walk.)
+  const double xa2 = x.a * x.a, two_dt = 2 * dt_, xv = x.v;
+  const bool rising = x.a > 0;
+  const auto scan = [xa2, two_dt, xv, rising](double a_, double j_) {
+    return (rising ? xv + xa2 / (2 * j_) : xv) * (a_ / j_ + two_dt) + kTouch_mm;
   };
   bool uniform = true;
   double stop_at = kInf;  // from p: the first exact stop or the window's end the walk meets
@@ -612,6 +640,7 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   std::size_t ks = c.k + 1, ke = c.k + 1;
   double scan_x = scan(a, j);
   bool scan_stale = false;
+  std::size_t indexed = built();  // built(), kept here: only the walk's index_through calls change it
   for (;; ++ks) {
     // Enter the blocks ke < ks (indexed: the scan has read them) that the ramp reaches.
     while (ke < ks) {
@@ -646,7 +675,7 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
     }
     if (scan_stale) scan_x = scan(a, j), scan_stale = false;
     if (groups && (o + ks) % G == 0 && ks + G <= n_) {
-      if (ks + G > built()) index_through(ks + G - 1);
+      if (ks + G > indexed) index_through(ks + G - 1), indexed = built();
       const std::size_t q = (o + ks) / G;
       // Scanned whole only where one by one the walk would go through it without a refresh (the
       // ramp's distance is not monotonic in J while |a| above A is being brought down, and a lower
@@ -676,7 +705,7 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
         }
       }
     }
-    if (ks >= built()) index_through(ks);  // its start, and its limits when it is inside the window
+    if (ks >= indexed) index_through(ks), indexed = built();  // its start, and its limits when it is inside the window
     const double ss = (st[ks] - base_) - p;
     if (!reached(ss, scan_x)) {
       if (!dirty) break;
@@ -727,9 +756,19 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   // of them a stop, beyond where |a| is brought down (phase 0): each block's test passes there.
   const double v_up2 = r.v_up * r.v_up * (1 + 1e-12);
   const double phase0_end = r.dur[0] > 0 ? reach(r.at[1].s) : -kInf;
+  const double reach_stop = reach(r.d_stop);
+  // reach_speed of the last cap asked: blocks in a row often share a cap or junction speed (a
+  // polyline's identical corner blends), and it costs ~110 instructions where the ramp passes it.
+  double memo_cap = std::numeric_limits<double>::quiet_NaN(), memo_d = 0;
+  const auto reach_speed = [&](double cap) {
+    if (r.v_up <= cap) return 0.0;  // (reach_speed's own first answer)
+    if (!(cap == memo_cap)) memo_cap = cap, memo_d = r.reach_speed(cap);
+    return memo_d;
+  };
   for (std::size_t k = c.k;;) {
-    const double start = this->start(k) - p;
-    if (!(start <= reach(r.d_stop))) break;
+    if (k > indexed) index_through(k - 1), indexed = built();  // (this->start(k), as in the walk)
+    const double start = (st[k] - base_) - p;
+    if (!(start <= reach_stop)) break;
     if (k > c.k && start >= stop_at) {  // an exact stop or the window's end: reached at rest, never crossed
       // Only the rounding of a touch, not a fixed 1e-9 mm nor a share of the distance: the follower
       // may run this brake for hundreds of cycles (it is its last resort), and it ends past its
@@ -740,9 +779,9 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
       break;
     }
     if (g.groups && k > c.k && (o + k) % G == 0 && k + G <= n_ && start >= kAbs && start > phase0_end) {
-      index_through(k + G - 1);
+      if (k + G > indexed) index_through(k + G - 1), indexed = built();
       const std::size_t q = (o + k) / G;
-      if (g.group_u2[q] > v_up2 && g.group_cap[q] >= r.v_up && this->start(k + G - 1) - p < stop_at) {
+      if (g.group_u2[q] > v_up2 && g.group_cap[q] >= r.v_up && (st[k + G - 1] - base_) - p < stop_at) {
         k += G;
         ++g_.groups_skipped;
         continue;
@@ -757,11 +796,11 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
       // (v_up² clearly below the junction's u²: reach_speed(u) is 0, no square root needed.)
       if (!(v_up2 < u2_k[k]) || !clear(0, start)) {
         const double u = std::sqrt(u2_k[k]);
-        if (!clear(r.reach_speed(u), start)) return broken(true, start, u, false);
+        if (!clear(reach_speed(u), start)) return broken(true, start, u, false);
       }
     }
     const double here = std::max(start, 0.0);
-    const auto over_cap = [&](double cap) { return k == c.k ? r.v_up > cap : !clear(r.reach_speed(cap), start); };
+    const auto over_cap = [&](double cap) { return k == c.k ? r.v_up > cap : !clear(reach_speed(cap), start); };
     if (over_cap(hard(k))) return broken(true, here, hard(k), false);
     if (over_cap(soft(k))) return broken(false, here, soft(k), false);  // the front's relaxed to v_now
     ++k;
@@ -865,13 +904,12 @@ GuardVerdict JerkGuard::verify(const PathStep& step, const GuardMode& mode) cons
   Cursor c{0};
   if (!check(c, 0, v_now_, step, v) || v.failed()) return v;
   if (mode.certify) {
-    const GuardVerdict checked = v;
     std::size_t gate = 0;       // the first block of far lower acceleration the ramp entered (0: none)
     std::size_t jerk_gate = 0;  // the first block of far lower jerk it or π's scan reached (0: none)
     const Cert r = certify(step.x, step.x.s, c, v, mode.gate ? &gate : nullptr, mode.gate && mode.jerk_gate ? &jerk_gate : nullptr);
     if (r != Cert::Unknown) return v;
     for (const std::size_t k : {gate, jerk_gate != gate ? jerk_gate : 0}) {
-      GuardVerdict g = checked;
+      GuardVerdict g;  // v as check() left it: it writes a verdict only to fail
       if (k > 0 && certify_gated(step.x, step.x.s, c, k, g) == Cert::Safe) return g;
     }
     if (!mode.simulate && !(v.brake_s <= mode.simulate_up_to_s)) {  // refused, with the hint of where the ramp breaks a limit

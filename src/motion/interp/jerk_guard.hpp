@@ -171,6 +171,8 @@ class JerkGuard {
   PathStep anchored_brake(const ProfileState& now, double a, double j, double stop_mm) const;
   // rt-safe. Distance of the ramp to rest with limits a, j from x (|x.a| above a first brought to it).
   static double brake_distance(const ProfileState& x, double a, double j);
+  // rt-safe. The same from the whole ramp built (the reference for tests).
+  static double brake_distance_built(const ProfileState& x, double a, double j);
   // rt-safe. One cycle of a gated certificate's brake (GuardVerdict::cert_a2 > 0) with the gate
   // gate_mm ahead: before it the ramp to w, past it the ramp to rest.
   PathStep gated_brake(const ProfileState& now, const GuardVerdict& c) const {

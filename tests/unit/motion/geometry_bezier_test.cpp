@@ -382,3 +382,65 @@ TEST(GeometryBezier, AxesTheCurveDoesNotMoveStayExactlyPut) {
   }
   EXPECT_EQ(off, 0) << "samples off the height the curve keeps";
 }
+
+// Polynomial pieces of degree 1, 2, 4 and 5 are evaluated on the axes their control points move
+// (PolyCurve::poly_axes, listed by finalize) instead of comparing every axis's points at every
+// evaluation: the same derivatives to the bit as the comparisons give (kAxesUnknown: the reference),
+// on random pieces with some axes held, some moved by a single control point.
+TEST(GeometryBezier, ListedAxesGiveTheSameDerivativesAsTheReference) {
+  std::mt19937_64 rng(20261203);
+  std::uniform_real_distribution<double> coord(-50, 50);
+  std::uniform_int_distribution<int> pick(0, 3);
+  int compared = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const std::size_t n = std::array<std::size_t, 4>{1, 2, 4, 5}[static_cast<std::size_t>(trial % 4)];
+    std::vector<core::Vec> ctrl(n + 1);
+    for (std::size_t a = 0; a < core::kMaxAxes; ++a) {
+      const int kind = pick(rng);  // 0: held, 1: one point moved, else: all random
+      const double base = coord(rng);
+      for (std::size_t i = 0; i <= n; ++i) ctrl[i][a] = kind == 0 ? base : kind == 1 ? (i == n / 2 + 1 ? coord(rng) : base) : coord(rng);
+    }
+    const SegmentResult r = make_bezier(ctrl);
+    ASSERT_TRUE(r.ok()) << trial;
+    const Segment& s = r.segment;
+    ASSERT_NE(s.poly.n_poly_axes, PolyCurve::kAxesUnknown);
+    PolyCurve ref = s.poly;
+    ref.n_poly_axes = PolyCurve::kAxesUnknown;
+    for (int i = 0; i <= 64; ++i) {
+      const double u = i / 64.0 + (i % 3) * 1e-3 * (i < 64);
+      const CurveDerivs d = s.poly.derivs(u), e = ref.derivs(u);
+      for (std::size_t a = 0; a < core::kMaxAxes; ++a) {
+        ASSERT_EQ(d.c[a], e.c[a]) << trial << " u " << u << " axis " << a;
+        ASSERT_EQ(d.d1[a], e.d1[a]) << trial << " u " << u << " axis " << a;
+        ASSERT_EQ(d.d2[a], e.d2[a]) << trial << " u " << u << " axis " << a;
+      }
+      ++compared;
+    }
+  }
+  EXPECT_EQ(compared, 400 * 65);
+}
+
+// s → u of a polynomial piece evaluates its stored |C'|² unrolled for its degree (PolyCurve::param_at):
+// the same parameter to the bit as the general speed evaluation (param_at_reference), for degrees
+// 1 to 5, at arc lengths across each piece, its ends and beyond.
+TEST(GeometryBezier, ArcLengthInversionIsTheSameAsTheReference) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> coord(-20, 20);
+  int compared = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const std::size_t n = static_cast<std::size_t>(trial % 5) + 1;
+    std::vector<core::Vec> ctrl(n + 1);
+    for (auto& p : ctrl)
+      for (std::size_t a : {0u, 1u, 2u, 6u}) p[a] = coord(rng);
+    const SegmentResult r = make_bezier(ctrl);
+    ASSERT_TRUE(r.ok()) << trial;
+    const PolyCurve& c = r.segment.poly;
+    ASSERT_TRUE(c.has_speed2);
+    for (int i = -1; i <= 301; ++i) {
+      const double s = c.length() * i / 300.0 * (1 + 1e-7 * (i % 7));
+      ASSERT_EQ(c.param_at(s), c.param_at_reference(s)) << trial << " s " << s;
+      ++compared;
+    }
+  }
+  EXPECT_EQ(compared, 200 * 303);
+}

@@ -2000,3 +2000,23 @@ TEST(PlannerJerk, IntoABlockWithoutAJerkLimitTheCycleRunsOn) {
     EXPECT_EQ(res.end, reqs.back().geom.end);
   }
 }
+
+// JerkGuard::brake_distance advances plan_ramp's phases without building the whole ramp (its speeds
+// and |a| bounds) where no phase 0 brings |a| down first: the same distance to the bit as the ramp
+// built (brake_distance_built), accelerating and braking, |a| up to and beyond the limit, near rest,
+// and braking so hard already that the ramp reverses.
+TEST(PlannerJerk, BrakeDistanceIsTheBuiltRampsToTheBit) {
+  std::mt19937_64 rng(42);
+  std::uniform_real_distribution<double> unit(0, 1);
+  int lean = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const double a = 10 + 4000 * unit(rng), j = 100 + 50000 * unit(rng);
+    const double v = i % 10 == 0 ? 1e-6 * unit(rng) : 200 * unit(rng);
+    const double x_a = (2 * unit(rng) - 1) * a * (i % 7 == 0 ? 1.5 : 1.0);
+    const ProfileState x{0, v, i % 11 == 0 ? (i % 2 ? a : -a) : x_a, 0};
+    const double d = JerkGuard::brake_distance(x, a, j), e = JerkGuard::brake_distance_built(x, a, j);
+    ASSERT_TRUE(d == e || (std::isnan(d) && std::isnan(e))) << i << ": v " << v << " a0 " << x.a << " A " << a << " J " << j;
+    lean += std::abs(x.a) <= a;
+  }
+  EXPECT_GT(lean, 15000);
+}
