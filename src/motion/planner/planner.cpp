@@ -1146,14 +1146,14 @@ void Planner::limit_for_stop(double v, double a, double s_front) {
   for (std::size_t k = 0; k < reach; ++k) {
     Block& b = ring.at(k);
     if (!(b.base_a > 0) || !(b.base_j > 0) || b.seg.kind != SegmentKind::Poly || !(v < b.v_cap_mm_s)) continue;
-    const SegmentLimits l = segment_limits(b.seg, limits_, config_.centripetal_share, std::min(v, b.relimit_v), b.relimit_norm);
-    const double fa = l.a_max_mm_s2 / b.base_a, fj = l.j_max_mm_s3 / b.base_j;
-    if (!std::isfinite(fa) || !std::isfinite(fj)) continue;
-    if (!(b.stop_a0 > 0)) b.stop_a0 = b.a_mm_s2, b.stop_j0 = b.j_mm_s3;
+    const double a0 = b.stop_a0 > 0 ? b.stop_a0 : b.a_mm_s2, j0 = b.stop_a0 > 0 ? b.stop_j0 : b.j_mm_s3;
+    double A = 0, J = 0;
+    if (!relimit(b, v, a0, j0, A, J)) continue;
+    b.stop_a0 = a0, b.stop_j0 = j0;
     b.v_cap_mm_s = b.v_split_mm_s = v;
-    b.a_mm_s2 = b.stop_a0 * std::max(1.0, fa);
-    b.j_mm_s3 = b.stop_j0 * std::max(1.0, fj);
-    b.law = TangentLaw::constant(b.a_mm_s2);
+    b.a_mm_s2 = A;
+    b.j_mm_s3 = J;
+    b.law = TangentLaw::constant(A);
     changed = true;
   }
   if (changed) ring.touch();  // readers that keep what they derived from the blocks begin again
@@ -1201,6 +1201,20 @@ double reach_from_rest(double L, double A, double J) {
 }
 }  // namespace
 
+// rt-safe. A Poly block's limits derived again for the speed c (segment_limits as its own were, kept
+// on the block: base_a, base_j, relimit_v, relimit_norm), applied to its limits a0, j0 by the ratio
+// to what they were derived from, never lowered: what junction shares took off stays off, in
+// proportion. false where the ratio is not finite.
+bool Planner::relimit(const Block& b, double c, double a0, double j0, double& A, double& J, SegmentLimits* out) const {
+  const SegmentLimits l = segment_limits(b.seg, limits_, config_.centripetal_share, std::min(c, b.relimit_v), b.relimit_norm);
+  const double fa = l.a_max_mm_s2 / b.base_a, fj = l.j_max_mm_s3 / b.base_j;
+  if (!std::isfinite(fa) || !std::isfinite(fj)) return false;
+  A = a0 * std::max(1.0, fa);
+  J = j0 * std::max(1.0, fj);
+  if (out) *out = l;
+  return true;
+}
+
 // rt-safe. A Poly block whose one end is at rest (an exact stop, or the window's start) never runs
 // faster than it reaches from rest within its length; its limits, derived for its cap (the curvature
 // terms of its jerk and acceleration budget take what that speed needs), are derived again for the
@@ -1217,14 +1231,7 @@ bool Planner::limit_to_reach(Block& b, bool from_rest, double d_more, double a_m
   if (!std::isfinite(b.j_mm_s3) || !(b.v_cap_mm_s > 0)) return false;
   SegmentLimits l;
   double A = 0, J = 0;
-  const auto at = [&](double c) {
-    l = segment_limits(b.seg, limits_, config_.centripetal_share, std::min(c, b.relimit_v), b.relimit_norm);
-    const double fa = l.a_max_mm_s2 / b.base_a, fj = l.j_max_mm_s3 / b.base_j;
-    if (!std::isfinite(fa) || !std::isfinite(fj) || !(fa > 0) || !(fj > 0)) return false;
-    A = b.a_mm_s2 * std::max(1.0, fa);
-    J = b.j_mm_s3 * std::max(1.0, fj);
-    return true;
-  };
+  const auto at = [&](double c) { return relimit(b, c, b.a_mm_s2, b.j_mm_s3, A, J, &l); };
   double hi = b.v_cap_mm_s, lo = 0;
   // Entered from rest (from_rest): from any state the path can reach there, (v, a) with v within the
   // reach and a ≤ A, the guard's brake first brings a down to 0 and gains a²/2J on the way; that too
@@ -1313,6 +1320,11 @@ void Planner::commit(const Block& b) {
   }
   // An exact stop (or the window's start) before nb: the blocks on either side run from or to rest.
   if (config_.limit_to_reach) {
+    // Past this reach from rest no block's cap can be met: the diagonal of every axis's speed.
+    double v_top2 = 0;
+    for (std::size_t i = 0; i < core::kMaxAxes; ++i)
+      if (limits_.present(i)) v_top2 += limits_.axis[i].v_max_mm_s * limits_.axis[i].v_max_mm_s;
+    const double v_top = std::sqrt(v_top2);
     // Forwards from the last rest point: nothing has planned into nb yet.
     if (nb.v2_junction == 0) reach_d_ = reach_a_ = reach_j_ = 0;
     if (reach_d_ >= 0) {
@@ -1320,18 +1332,11 @@ void Planner::commit(const Block& b) {
       reach_d_ += nb.length;
       reach_a_ = std::max(reach_a_, nb.a_mm_s2);
       reach_j_ = std::max(reach_j_, nb.j_mm_s3);
-      double v_top2 = 0;
-      for (std::size_t i = 0; i < core::kMaxAxes; ++i)
-        if (limits_.present(i)) v_top2 += limits_.axis[i].v_max_mm_s * limits_.axis[i].v_max_mm_s;
-      if (!std::isfinite(reach_j_) || reach_from_rest(reach_d_, reach_a_, reach_j_) >= std::sqrt(v_top2)) reach_d_ = -1;
+      if (!std::isfinite(reach_j_) || reach_from_rest(reach_d_, reach_a_, reach_j_) >= v_top) reach_d_ = -1;
     }
-  }
-  if (config_.limit_to_reach && nb.v2_junction == 0) {
-    if (!from_rest) {
-      // Backwards from the stop, while a motion coming to rest there could still be below a cap.
-      double d = 0, a_max = 0, j_max = 0, v_top2 = 0;
-      for (std::size_t i = 0; i < core::kMaxAxes; ++i)
-        if (limits_.present(i)) v_top2 += limits_.axis[i].v_max_mm_s * limits_.axis[i].v_max_mm_s;
+    // Backwards from a new stop, while a motion coming to rest there could still be below a cap.
+    if (nb.v2_junction == 0 && !from_rest) {
+      double d = 0, a_max = 0, j_max = 0;
       bool changed = false;
       for (std::size_t k = ring.size() - 1, walked = 0; k-- > 0 && walked++ < kReachBlocks;) {
         Block& pb = ring.at(k);
@@ -1342,7 +1347,7 @@ void Planner::commit(const Block& b) {
         d += pb.length;
         a_max = std::max(a_max, pb.a_mm_s2);
         j_max = std::max(j_max, pb.j_mm_s3);
-        if (pb.v2_junction == 0 || !std::isfinite(j_max) || reach_from_rest(d, a_max, j_max) >= std::sqrt(v_top2)) break;
+        if (pb.v2_junction == 0 || !std::isfinite(j_max) || reach_from_rest(d, a_max, j_max) >= v_top) break;
       }
       if (changed) ring.touch();  // readers that keep what they derived from the blocks begin again
     }

@@ -168,6 +168,7 @@ class Planner {
   void dense_cap(Block& b);  // see kDenseBlocks
   // A Poly block entered or left at rest gets the limits of the speed it can reach (see planner.cpp).
   bool limit_to_reach(Block& b, bool from_rest, double d_more, double a_more, double j_more) const;
+  bool relimit(const Block& b, double c, double a0, double j0, double& A, double& J, SegmentLimits* out = nullptr) const;
   // Since the last rest point: distance, largest acceleration and jerk (−1: too far to matter).
   double reach_d_ = -1, reach_a_ = 0, reach_j_ = 0;
   static constexpr std::size_t kReachBlocks = 64;  // the blocks before a new stop limit_to_reach looks at
