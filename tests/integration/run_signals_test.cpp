@@ -177,7 +177,7 @@ TEST(RunSignals, P5_AStopInABlendOrASmoothedRunIsOnThePathAndNamesItsLine) {
 // instead of the split planned for their top speed. 0.281 s to rest before, 0.189 s now; every
 // limit kept, the stopped position on the path. The stop comes at X17.39 on line 921 (the time it
 // is asked at follows the program's: 7.3 s before sharp corners became stops where that is quicker,
-// "Blend or stop", 6.814 s since, 6.744 s since curves before a stop take the limits of their
+// "Blend or stop", 6.814 s since, 6.742 s since curves before a stop take the limits of their
 // reach, "Blocks at rest"; the time to rest depends on where).
 TEST(RunSignals, P5_AStopOnASmoothedRunBrakesHarderAsItSlows) {
   auto cfg = machine::default_machine();
@@ -191,7 +191,7 @@ TEST(RunSignals, P5_AStopOnASmoothedRunBrakesHarderAsItSlows) {
   machine::validate(cfg);
   std::ifstream in(std::string(SOFTMC_SOURCE_DIR) + "/examples/gcode/bench/surfacing.ngc");
   const std::string program((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const double t_stop = 6.744;
+  const double t_stop = 6.742;
   const auto r = run(fmt::format("{} stop_request 1\n", t_stop), cfg, program);
   ASSERT_TRUE(r.res.stopped) << r.res.result;
   EXPECT_NEAR(at(r, t_stop).cmd[0], 17.39, 0.05);

@@ -1234,13 +1234,15 @@ bool Planner::limit_to_reach(Block& b, bool from_rest, double d_more, double a_m
   const auto at = [&](double c) { return relimit(b, c, b.a_mm_s2, b.j_mm_s3, A, J, &l); };
   double hi = b.v_cap_mm_s, lo = 0;
   // Entered from rest (from_rest): from any state the path can reach there, (v, a) with v within the
-  // reach and a ≤ A, the guard's brake first brings a down to 0 and gains a²/2J on the way; that too
+  // reach and a ≤ A (and ≤ ∛(6·x·J²) within x of rest, the jerk phase's), the guard's brake first
+  // brings a down to 0 and gains a²/2J on the way; that too
   // must stay under the cap, or the guard would hold the path below its reach where it accelerates
   // (10 % slower on a run of tiny collinear pieces). Left at rest, every brake ends at that rest:
   // its speed never exceeds the reach itself.
   const auto reach = [&] {
-    const double a = std::max(A, a_more), j = std::max(J, j_more);
-    return reach_from_rest(b.length + d_more, a, j) + (from_rest ? 0.5 * a * a / j : 0.0);
+    const double a = std::max(A, a_more), j = std::max(J, j_more), x = b.length + d_more;
+    const double a_x = std::min(a, std::cbrt(6 * x * j * j));  // no more acceleration within x of rest
+    return reach_from_rest(x, a, j) + (from_rest ? 0.5 * a_x * a_x / j : 0.0);
   };
   A = b.a_mm_s2, J = b.j_mm_s3;  // the limits only rise as the cap falls: reached already, nothing to do
   if (reach() >= hi || !at(hi) || reach() >= hi) return false;
