@@ -32,9 +32,9 @@ double spiral_length(double r0, double q0, double b, double phi) {
 struct SpiralAngle {
   double phi, r, q;  // angle turned, radius there, √(r² + b²) = dσ/dφ
 };
-// The angle at in-plane length σ. Otherwise Newton on spiral_length from the root of its
-// second-order expansion r0·φ + b·φ²/2 = σ, which is already within (b/r)² of it (a step or two
-// for slight spirals, a few for strong ones). Newton's next error is at most |b|·d²/(2q) for a step d: the loop
+// The angle at in-plane length σ: on slight spirals the root of a quadratic (below), otherwise
+// Newton on spiral_length from the root of its second-order expansion r0·φ + b·φ²/2 = σ, which is
+// already within (b/r)² of it (a step or two, a few on strong spirals). Newton's next error is at most |b|·d²/(2q) for a step d: the loop
 // ends when that is below rounding. rt-safe.
 SpiralAngle spiral_angle(double r0, double b, double sigma, double phi_max) {
   const double r1 = r0 + b * phi_max, r_min = std::min(r0, r1);
@@ -144,6 +144,13 @@ ArcAt arc_at(const Segment& g, double s) {
   const double dphi = g.plane_rate / a.q;
   return {g.theta0 + sg * a.phi, a.r, dphi, -dphi * dphi * a.r * b / (a.q * a.q), b, sg};
 }
+// rt-safe. The point at s from its angle and radius (the linear axes move with s).
+Vec arc_point(const Segment& g, const ArcAt& a, double s) {
+  Vec p = g.start + g.linear * s;
+  p[g.axis0] = g.c0 + a.r * std::cos(a.th);
+  p[g.axis1] = g.c1 + a.r * std::sin(a.th);
+  return p;
+}
 // rt-safe. The in-plane parts: on a spiral dp/dφ = b·e_r + sg·r·e_θ and
 // d²p/dφ² = 2·b·sg·e_θ − r·e_r, with e_r = (cos θ, sin θ), e_θ = (−sin θ, cos θ).
 Vec arc_tangent(const Segment& g, const ArcAt& a) {
@@ -207,11 +214,7 @@ Vec Segment::point(double s) const {
   if (s >= length) return end;
   if (kind == SegmentKind::Line) return start + dir * s;
   if (kind == SegmentKind::Poly) return poly.at(poly.param_at(s));
-  const ArcAt a = arc_at(*this, s);
-  Vec p = start + linear * s;
-  p[axis0] = c0 + a.r * std::cos(a.th);
-  p[axis1] = c1 + a.r * std::sin(a.th);
-  return p;
+  return arc_point(*this, arc_at(*this, s), s);
 }
 
 // A stationary point (motion::stationary: tangent_curvature takes the direction of C''). At a
@@ -228,7 +231,6 @@ Vec Segment::tangent(double s) const {
   if (length <= 0) return Vec{};
   return arc_tangent(*this, arc_at(*this, s));
 }
-
 
 // rt-safe
 Vec Segment::curvature(double s) const {
@@ -333,11 +335,7 @@ CurveFrame Segment::frame(double s) const {
   if (kind == SegmentKind::Arc) {
     if (!(length > 0)) return {start, Vec{}, Vec{}};
     const ArcAt a = arc_at(*this, s);
-    Vec p = start + linear * std::clamp(s, 0.0, length);
-    p[axis0] = c0 + a.r * std::cos(a.th);
-    p[axis1] = c1 + a.r * std::sin(a.th);
-    if (s <= 0) p = start;
-    if (s >= length) p = end;
+    const Vec p = s <= 0 ? start : s >= length ? end : arc_point(*this, a, s);
     return {p, arc_tangent(*this, a), arc_curvature(*this, a)};
   }
   CurveFrame f;
