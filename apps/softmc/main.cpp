@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
 
@@ -45,8 +46,35 @@ struct MachineArgs {
   }
 };
 
-// Parses a program; prints each diagnostic on stderr. Returns nothing on any error.
-std::optional<program::Program> load_program(const std::string& path, const machine::MachineConfig& cfg) {
+// How many diagnostics `softmc run` prints on stderr before it only counts the rest (a program
+// that leaves the travel on every line of a long contour would print one per line).
+constexpr std::size_t kRunDiagnosticsShown = 20;
+
+// Prints diagnostics on stderr, at most `shown` of them (then how many more and where to see them).
+void print_diagnostics(const core::Diagnostics& d, std::size_t shown, const std::string& path) {
+  for (std::size_t i = 0; i < d.size() && i < shown; ++i) std::cerr << d[i].format() << '\n';
+  if (d.size() > shown)
+    std::cerr << fmt::format("softmc: {} more not shown ({} in all; `softmc check {}` lists every one)\n",
+                             d.size() - shown, d.size(), path);
+}
+
+// The program's diagnostics as `softmc run --json` prints a program it did not run.
+std::string rejection_json(const std::string& path, const std::string& machine, const core::Diagnostics& d) {
+  auto list = nlohmann::ordered_json::array();
+  for (const auto& x : d)
+    list.push_back(nlohmann::ordered_json{{"file", x.file},
+                    {"line", x.line},
+                    {"col", x.col},
+                    {"severity", x.severity == core::Severity::Error ? "error" : "warning"},
+                    {"message", x.message}});
+  nlohmann::ordered_json j{{"program", path}, {"machine", machine}, {"result", "rejected"}, {"diagnostics", list}};
+  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+// Parses a program and checks its path against the travel; every diagnostic goes to `diags`.
+// Returns nothing on any error.
+std::optional<program::Program> load_program(const std::string& path, const machine::MachineConfig& cfg,
+                                             core::Diagnostics& diags) {
   const auto setup = app::gcode_setup(cfg);
   auto r = program::iso::parse_file(path, setup->options());
   // Validate the whole thing, then act: the path must stay inside the travel (P-9) before anything moves.
@@ -54,8 +82,8 @@ std::optional<program::Program> load_program(const std::string& path, const mach
     auto travel = control::check_travel(*r.program, cfg.limits());
     r.diagnostics.insert(r.diagnostics.end(), travel.begin(), travel.end());
   }
-  for (const auto& d : r.diagnostics) std::cerr << d.format() << '\n';
-  if (core::has_errors(r.diagnostics)) return std::nullopt;
+  diags = std::move(r.diagnostics);
+  if (core::has_errors(diags)) return std::nullopt;
   return std::move(r.program);
 }
 
@@ -83,7 +111,12 @@ class ProgressBar {
 int cmd_run(const std::string& path, const MachineArgs& margs, const std::string& plot, const std::string& trace_csv,
             bool json, const std::string& stimulus_file) {
   const auto cfg = margs.load();
-  const auto prog = load_program(path, cfg);
+  const std::string machine_name = margs.file.empty() ? cfg.name + " (built-in)" : margs.file;
+  core::Diagnostics diags;
+  const auto prog = load_program(path, cfg, diags);
+  // Every diagnostic in the JSON object of a rejected program; on stderr the first few.
+  if (!prog && json) std::cout << rejection_json(path, machine_name, diags) << '\n';
+  else print_diagnostics(diags, kRunDiagnosticsShown, path);
   // The PLC's motion signals over time (docs/cli.md): checked whole before anything moves.
   std::optional<control::ChannelStimulus> stimulus;
   if (!stimulus_file.empty()) {
@@ -110,7 +143,7 @@ int cmd_run(const std::string& path, const MachineArgs& margs, const std::string
   if (csv) csv->close();
   auto summary = builder.finish();
   summary.program = path;
-  summary.machine = margs.file.empty() ? cfg.name + " (built-in)" : margs.file;
+  summary.machine = machine_name;
   summary.result = res.result;
   if (!plot.empty()) {
     // The stimulus's writes up to the run's end, marked on the speed panel (one label per time).
@@ -170,7 +203,9 @@ int cmd_check(const std::vector<std::string>& paths, const MachineArgs& margs) {
       if (!check_spc(p)) rc = 1;
       continue;
     }
-    if (!load_program(p, cfg)) rc = 1;
+    core::Diagnostics diags;
+    if (!load_program(p, cfg, diags)) rc = 1;
+    print_diagnostics(diags, diags.size(), p);
   }
   return rc;
 }

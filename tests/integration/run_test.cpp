@@ -5,10 +5,14 @@
 #include <cstdio>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
+#include "cli_run.hpp"
 #include "machine/config.hpp"
 #include "program/iso/parser.hpp"
 #include "report/summary.hpp"
 #include "simulation.hpp"
+#include "temp_dir.hpp"
 
 using namespace softmc;
 
@@ -382,4 +386,40 @@ TEST(Run, ABlendAtASmoothedRunsEndKeepsTheRestOfP) {
     ASSERT_TRUE(r.res.ok) << r.res.result;
     EXPECT_LE(r.sum.max_path_deviation_mm, c.p + 1e-9) << c.text;
   }
+}
+
+// P-9 through the command line: a program whose path leaves the travel is not run. With --json the
+// answer is still one JSON object on stdout, every diagnostic in it (file, line, column, message);
+// without it stderr shows the first 20 and counts the rest, which `softmc check` lists in full.
+TEST(Run, P9_ARejectedProgramIsOneJsonObjectListingEveryDiagnostic) {
+  test::TempDir dir;
+  std::string text = "G21 G90 F600\n";
+  for (int k = 1; k <= 30; ++k) text += "G1 X" + std::to_string(-k) + "\n";  // X travel 0..: every line leaves it
+  text += "M2\n";
+  const auto prog = dir.file("out.ngc", text);
+  auto r = test::run_softmc("run " + prog + " --json");
+  EXPECT_EQ(r.exit, 1);
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["result"], "rejected");
+  EXPECT_EQ(j["program"], prog);
+  ASSERT_EQ(j["diagnostics"].size(), 30u);
+  EXPECT_EQ(j["diagnostics"][0]["line"], 2);
+  EXPECT_EQ(j["diagnostics"][0]["col"], 1);
+  EXPECT_EQ(j["diagnostics"][0]["severity"], "error");
+  EXPECT_EQ(j["diagnostics"][29]["line"], 31);
+  EXPECT_EQ(j["diagnostics"][29]["message"], "X leaves the travel: -30.000 mm < min 0.000 mm");
+  EXPECT_EQ(r.err, "");
+
+  r = test::run_softmc("run " + prog);
+  EXPECT_EQ(r.exit, 1);
+  EXPECT_EQ(r.out, "");  // nothing simulated, no summary
+  EXPECT_NE(r.err.find(prog + ":21:1: error: X leaves the travel: -20.000 mm"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find(prog + ":22:1:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("softmc: 10 more not shown (30 in all; `softmc check " + prog + "` lists every one)"),
+            std::string::npos)
+      << r.err;
+
+  r = test::run_softmc("check " + prog);
+  EXPECT_EQ(r.exit, 1);
+  EXPECT_NE(r.err.find(prog + ":31:1: error: X leaves the travel: -30.000 mm"), std::string::npos) << r.err;
 }
