@@ -117,7 +117,12 @@ void Interpolator::rest_at_end() {
 const Setpoint& Interpolator::step(double dt) {
   queue_.settle();  // the planner's backward pass over what was pushed since the last cycle
   auto& ring = queue_.ring();
-  if (ring.empty()) {
+  // Jerk mode at rest before a block the planner may still change (the only one, and more may
+  // follow: PlanQueue::visible): it is not planned with yet, so the path waits for the next block
+  // or the flush, as before an empty window.
+  const bool waiting = !ring.empty() && queue_.visible() == 0 && std::isfinite(ring.front().j_mm_s3) &&
+                       !started_ && s_ == 0 && v_ == 0 && a_ == 0;
+  if (ring.empty() || waiting) {
     if (stop_ != StopKind::None) {  // stopped before anything was committed: drop the pending block
       queue_.clear();
       stop_ = StopKind::None;

@@ -32,7 +32,11 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   const double scale = stop_ == StopKind::Emergency ? config_.emergency_accel_scale : 1.0;
   const Block& f = ring.front();
   const double vt = h ? 0.0 : soft_speed(f);
-  const std::size_t n = std::min<std::size_t>(ring.size(), static_cast<std::size_t>(config_.max_horizon_blocks));
+  // The blocks it may plan with (an open back's jerk may still fall: PlanQueue::visible).
+  // (None only while moving into an open back alone: never, step() waits at rest before it; taken
+  // as the front, as before the open back was held out.)
+  const std::size_t n = std::min<std::size_t>(std::max<std::size_t>(1, queue_.visible()),
+                                              static_cast<std::size_t>(config_.max_horizon_blocks));
 
   // Limits for the next cycle's acceleration: every block reached before |a| can be brought to 0.
   double a_c = f.a_mm_s2, j_c = jerk_of(f, dt);
@@ -244,7 +248,7 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   // other the next block starts from rest: per axis at most j_i·dt³·(1/8 + 5/6) (J·|t_i| ≤ j_i).
   rest_cycles_ = x.s == 0 && v_ == 0 && a_ == 0 ? rest_cycles_ + 1 : 0;
   const double left = f.length - s_;
-  const bool at_stop = ring.size() < 2 || ring.at(1).v2_junction <= 0;
+  const bool at_stop = n < 2 || ring.at(1).v2_junction <= 0;
   if (v_ <= 1e-9 && std::abs(a_) <= 1e-6 &&
       (left <= 1e-9 || (at_stop && !h && rest_cycles_ >= 3 && left <= jerk_of(f, dt) * dt * dt * dt / 8))) {
     s_ = f.length;
@@ -261,7 +265,7 @@ const Setpoint& Interpolator::step_jerk(double dt) {
     double d = left, jmin = f.j_mm_s3, to = -1;
     for (std::size_t k = 1; d <= jmin * dt3 / 8; ++k) {
       to = d;
-      if (k >= ring.size() || ring.at(k).v2_junction <= 0 || !std::isfinite(ring.at(k).j_mm_s3)) break;
+      if (k >= n || ring.at(k).v2_junction <= 0 || !std::isfinite(ring.at(k).j_mm_s3)) break;
       jmin = std::min(jmin, ring.at(k).j_mm_s3);
       d += ring.at(k).length;
     }
@@ -279,7 +283,7 @@ const Setpoint& Interpolator::step_jerk(double dt) {
     // whose last jerk phase ends a few µs into the next cycle reaches it with v ≈ 0 but |a| > 0, and
     // passing then would turn that acceleration with the path's direction (an axis acceleration
     // step). The next cycle ends the brake on the spot and the rest test above passes the block.
-    if ((ring.size() < 2 || ring.at(1).v2_junction <= 0) && (v_ > 1e-9 || std::abs(a_) > 1e-6)) {
+    if ((queue_.visible() < 2 || ring.at(1).v2_junction <= 0) && (v_ > 1e-9 || std::abs(a_) > 1e-6)) {
       s_ = b.length;
       break;
     }

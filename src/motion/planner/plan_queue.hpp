@@ -47,6 +47,12 @@ class PlanQueue {
     return ring_.size() + (has_pending_ ? 1 : 0) + (has_stage_ ? 1 : 0) + (has_held_ ? 1 : 0);
   }
   std::size_t capacity() const { return ring_.capacity() - kSpare; }
+  // The blocks the jerk follower may plan with: all of them but an open back (Planner::commit may
+  // still lower its jerk when the next block arrives: the curvature step at their junction). So
+  // the limits of a block never tighten once a brake may have been planned with them; the next
+  // commit or the flush at the end of what is planned closes the back. (An open back is always the
+  // block committed last: the path is at rest at its start when it is the only one.)
+  std::size_t visible() const { return ring_.size() - (back_open_ && !ring_.empty() ? 1 : 0); }
   // Drops everything planned, pending included (a fault, or the end of a stop).
   void clear() {
     ring_.clear();
@@ -54,6 +60,7 @@ class PlanQueue {
     has_stage_ = false;
     has_held_ = false;
     unsettled_ = 0;
+    back_open_ = false;
   }
 
   // rt-safe. The backward pass (entry limits from the tail, exit 0, backwards), run once for all the
@@ -89,6 +96,7 @@ class PlanQueue {
   double held_p_mm_ = 0;            // its tolerance P
   bool has_held_ = false;
   std::size_t unsettled_ = 0;  // blocks committed since the last settle()
+  bool back_open_ = false;     // the back block's jerk may still be lowered by the next commit
 };
 
 }  // namespace softmc::motion

@@ -1162,9 +1162,13 @@ void Planner::limit_for_stop(double v, double a, double s_front) {
 void Planner::flush() {
   emit_stage();  // validated when pushed: the merged line is inside the hull of what was checked
   release_held();
-  if (!queue_.has_pending_) return;
+  if (!queue_.has_pending_) {
+    queue_.back_open_ = false;
+    return;
+  }
   queue_.has_pending_ = false;
   if (queue_.pending_.length > min_length_mm_) commit(queue_.pending_);
+  queue_.back_open_ = false;  // nothing follows for now: the interpolator may plan with the back too
 }
 
 // rt-safe. Caps b where the kDenseBlocks blocks ending with it (it included) are shorter than a
@@ -1265,7 +1269,11 @@ bool Planner::limit_to_reach(Block& b, bool from_rest, double d_more, double a_m
 // rt-safe. Appends a block: its junction limit with the block before it, then the backward pass.
 void Planner::commit(const Block& b) {
   auto& ring = queue_.ring_;
+  // The block before b is final once the interpolator may plan with it (PlanQueue::visible: after
+  // a flush), so the curvature step below must then leave its jerk alone.
+  const bool prev_visible = !ring.empty() && !queue_.back_open_;
   ring.push(b);  // room was checked by push()
+  queue_.back_open_ = true;
   ++blocks_committed_;
   Block& nb = ring.back();
   const bool from_rest = ring.size() == 1;
@@ -1306,6 +1314,10 @@ void Planner::commit(const Block& b) {
         const double v = std::sqrt(nb.v2_junction);
         const double f_nb = jerk_left_by_step(step_j, nb, 0, v, limits_);
         const double f_prev = jerk_left_by_step(step_j, prev, prev.length, v, limits_);
+        if (prev_visible && f_prev < 1) {  // (pushed after a flush before the path got there) a stop: the step at rest
+          nb.v2_junction = 0;
+          break;
+        }
         if (std::min(f_nb, f_prev) < 0.25 * (1 - used)) {
           if (halvings == 40) {  // (never seen) a stop: the step then happens at rest
             nb.v2_junction = 0;
