@@ -216,7 +216,6 @@ double jerk_left_by_step(const Vec& step_j, const Block& b, double s_end, double
 
 // rt-safe
 SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double cn, double v_target, bool jerk_norm) {
-  const double ct = std::sqrt(std::max(0.0, 1 - cn * cn));
   SegmentLimits l{kInf, kInf, kInf};
   double& v = l.v_max_mm_s;
   double& a = l.a_max_mm_s2;

@@ -1043,7 +1043,7 @@ TEST(PlannerJerk, AStraightRunEntersASharpLowJerkCornerAtItsCap) {
   ASSERT_LT(cap, 2);
   // Each of the two alone enters the corner at its cap (so each is pinned here); without both the
   // path stops short of it and creeps in.
-  for (const auto [jerk_gate, ease] : {std::pair{true, true}, {true, false}, {false, true}, {false, false}}) {
+  for (const auto& [jerk_gate, ease] : {std::pair{true, true}, {true, false}, {false, true}, {false, false}}) {
     SCOPED_TRACE(::testing::Message() << "jerk gate " << jerk_gate << ", eased brake " << ease);
     InterpolatorConfig ic;
     ic.guard_jerk_gate = jerk_gate;
