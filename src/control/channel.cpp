@@ -267,6 +267,10 @@ void Channel::update(double dt_s) {
     return;
   }
   if (state_ != ChannelState::Running) return;
+  // A feed hold or an enable drop brakes as a stop does (above); at rest the curves take back the
+  // limits they were planned with before the path goes on (Planner::restore_limits).
+  if (interp_.held()) planner_.limit_for_stop(interp_.path_speed(), interp_.path_acceleration(), interp_.front_progress());
+  if (planner_.limits_raised() && interp_.path_speed() == 0 && interp_.path_acceleration() == 0) planner_.restore_limits();
   if (dwell_left_s_ > 0) {
     dwell_left_s_ -= dt_s;
     if (dwell_left_s_ > 1e-12) return;

@@ -135,6 +135,8 @@ class Interpolator {
   // Jerk mode: the position-mode stop candidate's plans, solved and sampled on (StopPlan).
   const StopPlan& stop_plan() const { return stop_plan_; }
   std::uint64_t guard_groups_skipped() const { return scratch_.groups_skipped; }  // GuardScratch
+  // A feed hold or a motion-enable drop (P-2) is braking the path or holds it.
+  bool held() const { return hold_ || !enable_; }
   // At rest on the path because of a hold, an enable drop or a stop in progress.
   bool halted_at_rest() const { return sp_.moving && sp_.path_v == 0 && halt(); }
 

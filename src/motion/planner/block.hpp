@@ -59,6 +59,7 @@ struct alignas(64) Block {
   double base_a = 0, base_j = 0, relimit_v = 0;
   bool relimit_norm = true;
   double stop_a0 = 0, stop_j0 = 0;  // its a_mm_s2 and j_mm_s3 before the first limit_for_stop
+  double stop_v0 = 0;               // its v_cap_mm_s then (a hold's end restores the three)
   TangentLaw law;             // tangential acceleration allowed at each speed (backward pass and the
                               // trapezoid interpolator); on jerk blocks the constant a_mm_s2
   Segment seg;            // the geometry when !is_blend (line or arc/helix)

@@ -1123,11 +1123,16 @@ bool Planner::fillet(Block& c, double p_mm) {
 // every cycle of a stop, as v falls: the brake is certified with the limits of the present cycle,
 // which the next only raises, so the fallback certified before stays safe. While a > 0 (v still
 // rises a little) nothing changes. Lines, arcs and blend arcs keep theirs. At most kStopBlocks
-// blocks: bounded work. The stop ends the program and drops the window, so nothing else runs on
-// the blocks changed here.
+// blocks: bounded work. A stop ends the program and drops the window, so nothing else runs on the
+// blocks changed here. A feed hold or an enable drop brakes the same way and the blocks stay: at
+// rest restore_limits() gives them back what they were planned with, and a hold released before
+// rest leaves them capped at the speed they were derived for until then (sound: their limits hold
+// up to that cap).
 void Planner::limit_for_stop(double v, double a, double s_front) {
   auto& ring = queue_.ring_;
-  const std::size_t n = std::min(ring.size(), kStopBlocks);
+  // The blocks the follower plans with: an open back's jerk may still be lowered by the next
+  // commit, which restore_limits() would undo.
+  const std::size_t n = std::min(queue_.visible(), kStopBlocks);
   if (n == 0 || !(v > 0) || a > 0) return;
   // The blocks a brake with the least limits so far could reach: it lasts no longer than bringing
   // a to −A, then ramping down from v (each at least A, J), at speeds up to v.
@@ -1148,6 +1153,7 @@ void Planner::limit_for_stop(double v, double a, double s_front) {
     const double a0 = b.stop_a0 > 0 ? b.stop_a0 : b.a_mm_s2, j0 = b.stop_a0 > 0 ? b.stop_j0 : b.j_mm_s3;
     double A = 0, J = 0;
     if (!relimit(b, v, a0, j0, A, J)) continue;
+    if (!(b.stop_a0 > 0)) b.stop_v0 = b.v_cap_mm_s;
     b.stop_a0 = a0, b.stop_j0 = j0;
     b.v_cap_mm_s = b.v_split_mm_s = v;
     b.a_mm_s2 = A;
@@ -1155,7 +1161,31 @@ void Planner::limit_for_stop(double v, double a, double s_front) {
     b.law = TangentLaw::constant(A);
     changed = true;
   }
-  if (changed) ring.touch();  // readers that keep what they derived from the blocks begin again
+  if (changed) {
+    ring.touch();  // readers that keep what they derived from the blocks begin again
+    limits_raised_ = true;
+  }
+}
+
+// rt-safe. A block limit_for_stop changed is within the first kStopBlocks of the window then, and
+// the front only moves on: the same bound finds it now.
+void Planner::restore_limits() {
+  if (!limits_raised_) return;
+  limits_raised_ = false;
+  auto& ring = queue_.ring_;
+  const std::size_t n = std::min(ring.size(), kStopBlocks);
+  bool changed = false;
+  for (std::size_t k = 0; k < n; ++k) {
+    Block& b = ring.at(k);
+    if (!(b.stop_a0 > 0)) continue;
+    b.v_cap_mm_s = b.v_split_mm_s = b.stop_v0;
+    b.a_mm_s2 = b.stop_a0;
+    b.j_mm_s3 = b.stop_j0;
+    b.law = TangentLaw::constant(b.stop_a0);
+    b.stop_a0 = b.stop_j0 = b.stop_v0 = 0;
+    changed = true;
+  }
+  if (changed) ring.touch();
 }
 
 void Planner::flush() {

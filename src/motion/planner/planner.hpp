@@ -143,8 +143,15 @@ class Planner {
   // (Interpolator::path_speed, path_acceleration, front_progress): the blocks within reach of the
   // brake get the limits their geometry allows up to the speed the path can still have, no more
   // than that (docs/planner.md, "Stops in curves").
+  // A feed hold or an enable drop (P-8, P-2) brakes the same way; at rest, restore_limits() gives
+  // the blocks their planned limits back before the path goes on.
   void limit_for_stop(double v, double a, double s_front);
   static constexpr std::size_t kStopBlocks = 256;
+  // rt-safe. The path is at rest: every block limit_for_stop changed takes back the cap, acceleration
+  // and jerk it was planned with (from rest any limits can be met; the follower plans anew). Nothing
+  // to do, and no walk, when no block was changed since the last call.
+  void restore_limits();
+  bool limits_raised() const { return limits_raised_; }
 
   PlanQueue& queue() { return queue_; }
   const PlanQueue& queue() const { return queue_; }
@@ -197,6 +204,7 @@ class Planner {
   MachineLimits limits_;
   PlannerConfig config_;
   PlanQueue queue_;
+  bool limits_raised_ = false;  // limit_for_stop changed a block since the last restore_limits()
   double min_length_mm_;  // min_length_mm(limits_)
   // The interpolator passes at most InterpolatorConfig::max_blocks_per_cycle (512) blocks a cycle.
   // A block is capped at the speed at which the kDenseBlocks blocks ending with it take one cycle

@@ -208,6 +208,25 @@ TEST(PlannerPoly, P5_AStopRaisesACurvesLimitsToWhatItsSpeedAllows) {
   EXPECT_GT(ring.at(k).a_mm_s2, at20.a_mm_s2);
   EXPECT_GE(ring.at(k).j_mm_s3, at20.j_mm_s3);
   EXPECT_EQ(ring.at(k).v_cap_mm_s, 5);
+  // A feed hold brakes the same way, and the blocks stay: at rest they take back what they were
+  // planned with, to the bit, before the path goes on (Planner::restore_limits).
+  EXPECT_TRUE(planner.limits_raised());
+  const auto raised = ring.changes();
+  planner.restore_limits();
+  EXPECT_FALSE(planner.limits_raised());
+  EXPECT_NE(ring.changes(), raised);  // the guard's index begins again
+  EXPECT_EQ(ring.at(k).v_cap_mm_s, before.v_cap_mm_s);
+  EXPECT_EQ(ring.at(k).v_split_mm_s, before.v_split_mm_s);
+  EXPECT_EQ(ring.at(k).a_mm_s2, before.a_mm_s2);
+  EXPECT_EQ(ring.at(k).j_mm_s3, before.j_mm_s3);
+  EXPECT_EQ(ring.at(k).law.root(400, 2), before.law.root(400, 2));
+  EXPECT_EQ(ring.at(0).a_mm_s2, line_before.a_mm_s2);
+  const auto restored = ring.changes();
+  planner.restore_limits();  // nothing raised since: nothing walked, nothing changed
+  EXPECT_EQ(ring.changes(), restored);
+  planner.limit_for_stop(20, -10, 9.5);  // raised again from the planned limits, not compounded
+  EXPECT_EQ(ring.at(k).a_mm_s2, at20.a_mm_s2);
+  EXPECT_EQ(ring.at(k).j_mm_s3, at20.j_mm_s3);
 }
 
 // A curve entered or left at rest (exact stops on both sides here) can never run faster than it
