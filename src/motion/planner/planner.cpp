@@ -1318,6 +1318,12 @@ void Planner::commit(const Block& b) {
     const double turn = core::norm(prev.tangent(prev.length) - nb.tangent(0));
     const double cap = std::min(plan_cap_mm_s(prev), plan_cap_mm_s(nb));
     nb.v2_junction = turn <= config_.tangent_rad ? cap * cap : std::min(cap * cap, nb.v2_kink);
+    // A block without a jerk limit (axes with max_jerk 0, or a Trapezoid move) into one with a
+    // limit: the trapezoid follower plans its exit with the backward pass's constant-deceleration
+    // model, which knows nothing of the jerk follower's ramps, and handed it states it could not
+    // brake from (a fuzzer's program on X, Y without jerk and Z with: X at 10× its acceleration where
+    // the path reached the end of the program at 3 mm/s). The jerk follower starts from rest there.
+    if (!std::isfinite(prev.j_mm_s3) && std::isfinite(nb.j_mm_s3)) nb.v2_junction = 0;
     // With jerk limits, a jump of the curvature vector (line into arc or blend) steps each axis's
     // acceleration by v²·Δκ_i within one cycle, on top of the path's own jerk in that cycle: the
     // step is kept within a share (curvature_step_share) of j_i·dt, and both neighbours give up the share the

@@ -2001,6 +2001,34 @@ TEST(PlannerJerk, IntoABlockWithoutAJerkLimitTheCycleRunsOn) {
   }
 }
 
+// The other way: a block without a jerk limit into one with a limit. The trapezoid follower plans
+// its exit with the backward pass's constant deceleration, which knows nothing of jerk ramps: a
+// fuzzer's program on X and Y without jerk and Z with 10 000 mm/s³ handed the jerk follower the
+// last line at 22 mm/s, more than its 1.04 mm allow under the jerk, and the path reached the end at
+// 3 mm/s: X at 10.3× its acceleration, Z at 33× its jerk. Such a junction is a stop now.
+TEST(PlannerJerk, FromABlockWithoutAJerkLimitIntoOneWithTheJerkFollowerStartsAtRest) {
+  auto lim = xyz_limits(100, 1000);
+  lim.axis[0] = {500, 200, 0, -1e6, 1e6};
+  lim.axis[1] = {200, 3000, 0, -1e6, 1e6};
+  lim.axis[2] = {200, 10000, 10000, -1e6, 1e6};
+  const core::Vec p0 = xyz(50, 50, 10), p1 = xyz(51.8541, 60.4412, 11.7465), p2 = xyz(37.0163, 53.7904, 11.7465),
+                  p3 = xyz(36.1384, 53.2476, 11.6072);
+  const std::vector<PathRequest> reqs{line_req(p0, p1, 100, 0, 0.05), line_req(p1, p2, 100, 1, 0.05),
+                                      line_req(p2, p3, 100, 2, 0.05)};
+  std::vector<core::Vec> trace;
+  const auto res = run_path(lim, reqs, 16, {}, {}, 20'000'000, {}, &trace);
+  ASSERT_TRUE(res.finished);
+  EXPECT_LE(res.fig.v_ratio, 1 + 1e-6) << res.fig.describe();
+  EXPECT_LE(res.fig.a_ratio, 1 + 1e-6) << res.fig.describe();
+  EXPECT_LE(res.fig.j_ratio, 1 + 1e-6) << res.fig.describe();  // Z's: the only axis with a jerk limit
+  EXPECT_LE(res.fig.deviation_mm, 0.05 + 1e-9) << res.fig.describe();
+  EXPECT_EQ(res.end, p3);
+  // The last cycles come to rest on the end point, the speed falling to 0 without a step.
+  ASSERT_GE(trace.size(), 3u);
+  const double v_last = core::norm(trace[trace.size() - 1] - trace[trace.size() - 2]) / lim.period_s;
+  EXPECT_LT(v_last, 0.5);
+}
+
 // JerkGuard::brake_distance advances plan_ramp's phases without building the whole ramp (its speeds
 // and |a| bounds) where no phase 0 brings |a| down first: the same distance to the bit as the ramp
 // built (brake_distance_built), accelerating and braking, |a| up to and beyond the limit, near rest,
