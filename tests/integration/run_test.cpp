@@ -423,3 +423,33 @@ TEST(Run, P9_ARejectedProgramIsOneJsonObjectListingEveryDiagnostic) {
   EXPECT_EQ(r.exit, 1);
   EXPECT_NE(r.err.find(prog + ":31:1: error: X leaves the travel: -30.000 mm"), std::string::npos) << r.err;
 }
+
+// A machine with a jerk limit on X and Z but none on Y (a fuzzer's): the blend at a 4.5° corner
+// (a jerk block: it moves X) runs into a line along Y alone (no jerk limit: the trapezoid follower).
+// The cycle that crosses the junction runs its leftover time on the line from the state at the
+// crossing; from the cycle's end speed and s/v it lost 0.1 µm and Y's next second difference was
+// 1006.9 mm/s² on its 1000. Every axis within its limits; a block without a jerk limit into one
+// with a limit starts from rest (PlannerJerk.FromABlockWithoutAJerkLimitIntoOneWithTheJerkFollowerStartsAtRest).
+TEST(Run, AJerkBlockIntoOneWithoutAJerkLimitHandsOverAtTheCrossing) {
+  auto cfg = machine::default_machine();
+  const char* sets[] = {"axes.x.max_vel_mm_s=50", "axes.x.max_acc_mm_s2=200", "axes.x.max_jerk_mm_s3=100000",
+                        "axes.y.max_vel_mm_s=50", "axes.y.max_acc_mm_s2=1000", "axes.y.max_jerk_mm_s3=0",
+                        "axes.z.max_vel_mm_s=500", "axes.z.max_acc_mm_s2=3000", "axes.z.max_jerk_mm_s3=10000",
+                        "axes.x.max_mm=100", "axes.y.max_mm=100", "axes.z.max_mm=100"};
+  for (const char* s : sets) machine::apply_override(cfg, s);
+  machine::validate(cfg);
+  const auto r = run_source(
+      "G21 G90 G17\nG61\nG0 X50 Y50 Z10\nF300\nG64 P0.01\nF1200\n"
+      "G5 I-1.031 J-0.131 P1.255 Q-1.224 X1.0000 Y97.4660\n"
+      "G1 X1.0196 Y97.7152\nG1 X1.0000 Y97.9613\nG1 X1.0000 Y98.1829\nG1 X1.0000 Y98.4412\nM2\n",
+      "mixed.ngc", cfg);
+  for (const auto& a : cfg.axes) {
+    if (!a.enabled) continue;
+    EXPECT_LE(r.sum.axis[a.index].max_vel_mm_s, a.max_vel_mm_s * (1 + 1e-9)) << a.name;
+    EXPECT_LE(r.sum.axis[a.index].max_acc_mm_s2, a.max_acc_mm_s2 * (1 + 1e-6)) << a.name;
+    if (a.max_jerk_mm_s3 > 0) {
+      EXPECT_LE(r.sum.axis[a.index].max_jerk_mm_s3, a.max_jerk_mm_s3 * (1 + 1e-4)) << a.name;
+    }
+  }
+  EXPECT_LE(r.sum.max_path_deviation_mm, 0.01 + 1e-9);
+}
