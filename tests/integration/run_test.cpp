@@ -453,3 +453,32 @@ TEST(Run, AJerkBlockIntoOneWithoutAJerkLimitHandsOverAtTheCrossing) {
   }
   EXPECT_LE(r.sum.max_path_deviation_mm, 0.01 + 1e-9);
 }
+
+// A line along Y reversing onto a smoothed run whose far end moves X by 0.4 µm (a fuzzer's, X with
+// a jerk limit and Y without): the run's first stub leaves 1.3e-5 rad off the reversal, and the
+// corner got a quintic blend that degenerated into a cusp its sampled curvature did not see: its
+// cap stayed at the axes' 50 mm/s, it was crossed at 0.45 mm/s, and Y's second difference was
+// 1099.6 mm/s² on its 1000. Within 2e-3 rad of a reversal the corner is a stop (as kink() takes it).
+TEST(Run, ANearReversalOntoASmoothedRunIsAStop) {
+  auto cfg = machine::default_machine();
+  const char* sets[] = {"axes.x.max_vel_mm_s=50", "axes.x.max_acc_mm_s2=3000", "axes.x.max_jerk_mm_s3=100000",
+                        "axes.y.max_vel_mm_s=50", "axes.y.max_acc_mm_s2=1000", "axes.y.max_jerk_mm_s3=0",
+                        "axes.z.max_vel_mm_s=500", "axes.z.max_acc_mm_s2=10000", "axes.z.max_jerk_mm_s3=100000",
+                        "axes.x.max_mm=100", "axes.y.max_mm=100", "axes.z.max_mm=100"};
+  for (const char* s : sets) machine::apply_override(cfg, s);
+  machine::validate(cfg);
+  const auto r = run_source(
+      "G21 G90 G17\nG64 P0.05\nG0 X50 Y50 Z10\nF3000\nG64 P0.005\nG1 X1.0000 Y93.4239\nG1 X1.0000 Y93.4473\n"
+      "G1 X1.0000 Y93.4006\nG1 X1.0000 Y93.3056\nG1 X1.0000 Y93.1779\nG1 X1.0000 Y93.0051\nG1 X1.0000 Y92.8012\n"
+      "G1 X1.0000 Y92.5779\nG1 X1.0000 Y92.3315\nG1 X1.0004 Y92.0815\nM2\n",
+      "reversal.ngc", cfg);
+  for (const auto& a : cfg.axes) {
+    if (!a.enabled) continue;
+    EXPECT_LE(r.sum.axis[a.index].max_vel_mm_s, a.max_vel_mm_s * (1 + 1e-9)) << a.name;
+    EXPECT_LE(r.sum.axis[a.index].max_acc_mm_s2, a.max_acc_mm_s2 * (1 + 1e-6)) << a.name;
+    if (a.max_jerk_mm_s3 > 0) {
+      EXPECT_LE(r.sum.axis[a.index].max_jerk_mm_s3, a.max_jerk_mm_s3 * (1 + 1e-4)) << a.name;
+    }
+  }
+  EXPECT_LE(r.sum.max_path_deviation_mm, 0.005 + 1e-9);
+}

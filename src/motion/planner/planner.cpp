@@ -686,7 +686,12 @@ void Planner::join(Block& b, double p_mm) {
       // Deflection: 0 = straight on, π = reversal (from the chord |t2 − t1| = 2 sin(δ/2): exact near 0).
       const double chord = core::norm(b.seg.dir - a.seg.dir);
       const double delta = 2 * std::asin(std::min(1.0, chord / 2));
-      if (delta > config_.tangent_rad && delta < std::numbers::pi - 1e-6) {
+      // Within 2e-3 rad of a reversal, a stop, as kink() takes it: a blend there is crossed at a
+      // few µm/s at best, and the corner quintic of a near-reversal degenerates into a cusp its
+      // sampled curvature does not see (a fuzzer's line reversing onto a stub 1.3e-5 rad off it:
+      // the quintic kept the axes' speed as its cap and was crossed at 0.45 mm/s, 10 % over Y's
+      // acceleration).
+      if (delta > config_.tangent_rad && delta < std::numbers::pi - 2e-3) {
         // Arc tangent to both lines whose midpoint lies `tol` from the corner:
         // tol = R·(1/cos h − 1), h = δ/2  →  R = tol·cos h / (1 − cos h); it touches the lines at
         // d = R·tan h from the corner. Each line gives at most half of its length to a blend, so
