@@ -482,3 +482,31 @@ TEST(Run, ANearReversalOntoASmoothedRunIsAStop) {
   }
   EXPECT_LE(r.sum.max_path_deviation_mm, 0.005 + 1e-9);
 }
+
+// After a helix, a smoothed run's first stub moves X by 1e-5 of its length (a fuzzer's, X with a
+// jerk limit of 10⁶ mm/s³ and Y without): the stub's path jerk is X's over that share, 1.3e8 mm/s³,
+// and the follower's step from rest onto a short block's end (J·dt³/8, 16 µm) took the 8.3 µm stub
+// in one cycle: Y at 8.3× its acceleration. Such a step is now also within half a cycle's
+// acceleration (A·dt²/2).
+TEST(Run, AStepFromRestKeepsTheAccelerationOfAnAxisWithoutAJerkLimit) {
+  auto cfg = machine::default_machine();
+  const char* sets[] = {"axes.x.max_vel_mm_s=500", "axes.x.max_acc_mm_s2=10000", "axes.x.max_jerk_mm_s3=1000000",
+                        "axes.y.max_vel_mm_s=100", "axes.y.max_acc_mm_s2=1000", "axes.y.max_jerk_mm_s3=0",
+                        "axes.z.max_vel_mm_s=200", "axes.z.max_acc_mm_s2=3000", "axes.z.max_jerk_mm_s3=1000000",
+                        "axes.x.max_mm=100", "axes.y.max_mm=100", "axes.z.max_mm=100"};
+  for (const char* s : sets) machine::apply_override(cfg, s);
+  machine::validate(cfg);
+  const auto r = run_source(
+      "G21 G90 G17\nG64 P0.005\nG0 X50 Y50 Z10\nF6000\nF60\nG1 X37.6169 Y49.7255 Z8.9631\n"
+      "G3 X36.9142 Y49.3860 Z7.1432 I-0.4874 J0.1117\nG1 X36.9138 Y49.4360\nG1 X36.9150 Y49.4860\nM2\n",
+      "stub.ngc", cfg);
+  for (const auto& a : cfg.axes) {
+    if (!a.enabled) continue;
+    EXPECT_LE(r.sum.axis[a.index].max_vel_mm_s, a.max_vel_mm_s * (1 + 1e-9)) << a.name;
+    EXPECT_LE(r.sum.axis[a.index].max_acc_mm_s2, a.max_acc_mm_s2 * (1 + 1e-6)) << a.name;
+    if (a.max_jerk_mm_s3 > 0) {
+      EXPECT_LE(r.sum.axis[a.index].max_jerk_mm_s3, a.max_jerk_mm_s3 * (1 + 1e-4)) << a.name;
+    }
+  }
+  EXPECT_LE(r.sum.max_path_deviation_mm, 0.005 + 1e-9);
+}

@@ -249,8 +249,13 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   rest_cycles_ = x.s == 0 && v_ == 0 && a_ == 0 ? rest_cycles_ + 1 : 0;
   const double left = f.length - s_;
   const bool at_stop = n < 2 || ring.at(1).v2_junction <= 0;
+  // A step from rest is also a second difference of step/dt² (and −step/dt² after it): within half
+  // the block's acceleration, where an axis without a jerk limit makes the path's J huge (a
+  // fuzzer's stub moving X by 1e-5 of its length, X with a jerk limit and Y without: J 1.3e8 mm/s³,
+  // J·dt³/8 = 16 µm, and a 8.3 µm stub taken in one step was 8.3× Y's acceleration).
+  const auto rest_step = [dt](double j, double a) { return std::min(j * dt * dt * dt / 8, a * dt * dt / 2); };
   if (v_ <= 1e-9 && std::abs(a_) <= 1e-6 &&
-      (left <= 1e-9 || (at_stop && !h && rest_cycles_ >= 3 && left <= jerk_of(f, dt) * dt * dt * dt / 8))) {
+      (left <= 1e-9 || (at_stop && !h && rest_cycles_ >= 3 && left <= rest_step(jerk_of(f, dt), f.a_mm_s2)))) {
     s_ = f.length;
     v_ = 0;
     a_ = 0;
@@ -260,13 +265,14 @@ const Setpoint& Interpolator::step_jerk(double dt) {
     // back almost onto its outgoing one, CAM zigzags of a few nanometres): the end of the farthest
     // of them within J·dt³/8 of path, J the least path jerk on the way, is taken as one step, no
     // further than an exact stop. Per axis that is at most j_i·dt³/8 (J·|t_i| ≤ j_i on every block
-    // kind and the chord is no longer than the path), as the rest onto a stop above.
-    const double dt3 = dt * dt * dt;
-    double d = left, jmin = f.j_mm_s3, to = -1;
-    for (std::size_t k = 1; d <= jmin * dt3 / 8; ++k) {
+    // kind and the chord is no longer than the path), as the rest onto a stop above; and no further
+    // than A·dt²/2, A the least path acceleration on the way (rest_step).
+    double d = left, jmin = f.j_mm_s3, amin = f.a_mm_s2, to = -1;
+    for (std::size_t k = 1; d <= rest_step(jmin, amin); ++k) {
       to = d;
       if (k >= n || ring.at(k).v2_junction <= 0 || !std::isfinite(ring.at(k).j_mm_s3)) break;
       jmin = std::min(jmin, ring.at(k).j_mm_s3);
+      amin = std::min(amin, ring.at(k).a_mm_s2);
       d += ring.at(k).length;
     }
     if (to > 0) s_ += to;
