@@ -205,7 +205,7 @@ def main():
     ap.add_argument("--reuse", action="store_true", help="reuse LinuxCNC traces already in --work")
     ap.add_argument("--no-lcnc", action="store_true", help="softmc only")
     ap.add_argument("--softmc-set", action="append", default=[], metavar="KEY=VALUE",
-                    help="one more --set for both softmc runs (e.g. planner.jerk_guard_simulate=true)")
+                    help="one more --set for both softmc runs (e.g. planner.smoothing_turn_deg=0)")
     args = ap.parse_args()
     progs = args.programs or [os.path.join(ROOT, "examples/gcode/bench", f)
                               for f in ("surfacing.ngc", "pocket.ngc", "engraving.ngc", "plasma.ngc")]

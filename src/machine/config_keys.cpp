@@ -133,6 +133,14 @@ std::optional<ConfigProblem> find_problem(const MachineConfig& cfg, const std::v
 
   if (auto p = check_keys(kSpcKeys, cfg.spc, "spc.", only)) return p;
   if (auto p = check_keys(kPlannerKeys, cfg.planner, "planner.", only)) return p;
+  // The simulated fallback brake accepts states with no feasible brake in short look-ahead windows
+  // (stop 23's review: up to 680× an axis's jerk in windows of 5–8 blocks on an ordinary program;
+  // docs/planner.md, "Blocks at rest"): not offered until it is mended. The certificate (false)
+  // keeps every limit.
+  if (cfg.planner.jerk_guard_simulate && wanted(only, "planner.jerk_guard_simulate"))
+    return ConfigProblem{{"planner.jerk_guard_simulate"},
+                         "planner.jerk_guard_simulate = true is not available: the simulated fallback brake broke axis "
+                         "limits in short look-ahead windows (docs/planner.md, \"Blocks at rest\"); leave it false"};
   if (auto p = check_keys(kGcodeKeys, cfg.gcode, "gcode.", only)) return p;
   for (std::size_t i = 0; i < cfg.gcode.m.size(); ++i) {
     const auto& m = cfg.gcode.m[i];

@@ -544,3 +544,16 @@ TEST(MachineConfig, GcodePathsAreRelativeToTheConfigurationFile) {
   EXPECT_EQ(cfg.gcode.subroutine_path, (std::vector<std::string>{(dir / "subs").string(), "/abs"}));
   fs::remove_all(dir);
 }
+
+// The simulated fallback brake broke axis limits in short look-ahead windows (stop 23's review:
+// 680× the jerk in a window of 8 blocks): not offered, with the reason, in a file and in a --set;
+// the default (false) is accepted as before.
+TEST(MachineConfig, TheSimulatedJerkGuardIsRefusedWithItsReason) {
+  EXPECT_THAT(error_of([&] { parse_machine("[planner]\njerk_guard_simulate = true\n", "m.toml"); }),
+              ::testing::HasSubstr("m.toml:2:1: error: planner.jerk_guard_simulate = true is not available"));
+  auto cfg = default_machine();
+  EXPECT_THAT(error_of([&] { apply_override(cfg, "planner.jerk_guard_simulate=true"); }),
+              ::testing::HasSubstr("broke axis limits in short look-ahead windows"));
+  EXPECT_FALSE(cfg.planner.jerk_guard_simulate);  // the refused override changed nothing
+  EXPECT_EQ(error_of([&] { parse_machine("[planner]\njerk_guard_simulate = false\n", "m.toml"); }), "no error");
+}
