@@ -181,6 +181,12 @@ const Setpoint& Interpolator::step_trapezoid(double dt) {
       s_ = 0;
       a_ = 0;
       cert_ = GuardVerdict{};
+      // An open back alone is not planned with (PlanQueue::visible): the path waits at rest on its
+      // start, as step() does (it arrives at rest: the junction into a jerk block is a stop).
+      if (queue_.visible() == 0 && v_ == 0) {
+        rest_at_end();
+        return sp_;
+      }
       return step_jerk(left);
     }
     if (ring.empty()) {  // the tail ends at rest: exactly on the last programmed point

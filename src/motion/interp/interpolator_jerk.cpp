@@ -33,8 +33,8 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   const Block& f = ring.front();
   const double vt = h ? 0.0 : soft_speed(f);
   // The blocks it may plan with (an open back's jerk may still fall: PlanQueue::visible).
-  // (None only while moving into an open back alone: never, step() waits at rest before it; taken
-  // as the front, as before the open back was held out.)
+  // (None only while moving into an open back alone: never, step() and step_trapezoid() wait at
+  // rest before it; taken as the front, as before the open back was held out.)
   const std::size_t n = std::min<std::size_t>(std::max<std::size_t>(1, queue_.visible()),
                                               static_cast<std::size_t>(config_.max_horizon_blocks));
 

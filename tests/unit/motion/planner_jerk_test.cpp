@@ -2029,6 +2029,37 @@ TEST(PlannerJerk, FromABlockWithoutAJerkLimitIntoOneWithTheJerkFollowerStartsAtR
   EXPECT_LT(v_last, 0.5);
 }
 
+// The trapezoid follower hands a jerk block the rest of its cycle when it ends; where that block is
+// the open back alone (the next push has not come), it is not planned with (PlanQueue::visible):
+// the path waits at rest on its start until the next commit or the flush, as step() waits (a
+// review's case: a window of 2, X and Y without jerk limits and Z with one).
+TEST(PlannerJerk, TheTrapezoidFollowerDoesNotHandAnOpenBackToTheJerkFollower) {
+  auto lim = xyz_limits(100, 1000);
+  lim.axis[2].j_max_mm_s3 = 10000;  // Z alone has a jerk limit
+  Planner planner(lim, 16);
+  Interpolator in(planner.queue(), xyz(0, 0, 0));
+  ASSERT_EQ(planner.push(line_req(xyz(0, 0, 0), xyz(5, 0, 0), 50, 0, 0)), PlanResult::Ok);  // X: no jerk limit
+  ASSERT_EQ(planner.push(line_req(xyz(5, 0, 0), xyz(5, 0, 2), 50, 1, 0)), PlanResult::Ok);  // Z: jerk block
+  ASSERT_EQ(planner.push(line_req(xyz(5, 0, 2), xyz(5, 3, 2), 50, 2, 0)), PlanResult::Ok);  // commits the Z line
+  const auto& ring = planner.queue().ring();
+  ASSERT_EQ(ring.size(), 2u);
+  ASSERT_EQ(planner.queue().visible(), 1u);  // the Z line is the open back
+  int waited = 0;
+  for (int c = 0; c < 2000 && !in.idle(); ++c) {
+    in.step(lim.period_s);
+    if (ring.size() == 1 && planner.queue().visible() == 0) {
+      // On the open Z line alone: at rest on its start.
+      EXPECT_EQ(in.setpoint().path_v, 0) << "cycle " << c;
+      EXPECT_EQ(in.front_progress(), 0) << "cycle " << c;
+      EXPECT_EQ(in.setpoint().pos, xyz(5, 0, 0)) << "cycle " << c;
+      if (++waited == 5) planner.flush();  // the next commit or the flush closes it
+    }
+  }
+  EXPECT_EQ(waited, 5);
+  EXPECT_TRUE(in.idle());
+  EXPECT_EQ(in.setpoint().pos, xyz(5, 3, 2));
+}
+
 // JerkGuard::brake_distance advances plan_ramp's phases without building the whole ramp (its speeds
 // and |a| bounds) where no phase 0 brings |a| down first: the same distance to the bit as the ramp
 // built (brake_distance_built), accelerating and braking, |a| up to and beyond the limit, near rest,
