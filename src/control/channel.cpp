@@ -270,7 +270,10 @@ void Channel::update(double dt_s) {
   // A feed hold or an enable drop brakes as a stop does (above); at rest the curves take back the
   // limits they were planned with before the path goes on (Planner::restore_limits).
   if (interp_.held()) planner_.limit_for_stop(interp_.path_speed(), interp_.path_acceleration(), interp_.front_progress());
-  if (planner_.limits_raised() && interp_.path_speed() == 0 && interp_.path_acceleration() == 0) planner_.restore_limits();
+  // (The setpoint's speed: path_speed() is the jerk follower's own and stale while the trapezoid
+  // follower moves.)
+  if (planner_.limits_raised() && interp_.setpoint().path_v == 0 && interp_.path_acceleration() == 0)
+    planner_.restore_limits();
   if (dwell_left_s_ > 0) {
     dwell_left_s_ -= dt_s;
     if (dwell_left_s_ > 1e-12) return;
