@@ -171,15 +171,10 @@ TEST(RunSignals, P5_AStopInABlendOrASmoothedRunIsOnThePathAndNamesItsLine) {
   EXPECT_NEAR(smooth.res.trace.rows.back().cmd[0], 30, 0.1);
 }
 
-// A stop on a smoothed CAM run (surfacing.ngc on the LinuxCNC comparison's machine: 100 mm/s,
-// 1000 mm/s², 10 000 mm/s³ per axis) brakes harder as it slows: each cycle the spline pieces ahead
-// get the limits their geometry allows at the speed the path has then (Planner::limit_for_stop),
-// instead of the split planned for their top speed. 0.281 s to rest before, 0.189 s now; every
-// limit kept, the stopped position on the path. The stop comes at X17.39 on line 921 (the time it
-// is asked at follows the program's: 7.3 s before sharp corners became stops where that is quicker,
-// "Blend or stop", 6.814 s since, 6.742 s since curves before a stop take the limits of their
-// reach, "Blocks at rest"; the time to rest depends on where).
-TEST(RunSignals, P5_AStopOnASmoothedRunBrakesHarderAsItSlows) {
+namespace {
+// The LinuxCNC comparison's machine (bench/compare_linuxcnc.py, jerk run): 100 mm/s, 1000 mm/s²,
+// 10 000 mm/s³ per axis, P0.05; and its surfacing program (a smoothed CAM run).
+machine::MachineConfig comparison_machine() {
   auto cfg = machine::default_machine();
   for (const char* a : {"x", "y", "z"}) {
     machine::apply_override(cfg, fmt::format("axes.{}.max_vel_mm_s=100", a));
@@ -189,8 +184,25 @@ TEST(RunSignals, P5_AStopOnASmoothedRunBrakesHarderAsItSlows) {
   machine::apply_override(cfg, "axes.z.min_mm=-10");
   machine::apply_override(cfg, "planner.tolerance_mm=0.05");
   machine::validate(cfg);
+  return cfg;
+}
+std::string surfacing() {
   std::ifstream in(std::string(SOFTMC_SOURCE_DIR) + "/examples/gcode/bench/surfacing.ngc");
-  const std::string program((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+}  // namespace
+
+// A stop on a smoothed CAM run (surfacing.ngc on the LinuxCNC comparison's machine: 100 mm/s,
+// 1000 mm/s², 10 000 mm/s³ per axis) brakes harder as it slows: each cycle the spline pieces ahead
+// get the limits their geometry allows at the speed the path has then (Planner::limit_for_stop),
+// instead of the split planned for their top speed. 0.281 s to rest before, 0.189 s now; every
+// limit kept, the stopped position on the path. The stop comes at X17.39 on line 921 (the time it
+// is asked at follows the program's: 7.3 s before sharp corners became stops where that is quicker,
+// "Blend or stop", 6.814 s since, 6.742 s since curves before a stop take the limits of their
+// reach, "Blocks at rest"; the time to rest depends on where).
+TEST(RunSignals, P5_AStopOnASmoothedRunBrakesHarderAsItSlows) {
+  const auto cfg = comparison_machine();
+  const std::string program = surfacing();
   const double t_stop = 6.742;
   const auto r = run(fmt::format("{} stop_request 1\n", t_stop), cfg, program);
   ASSERT_TRUE(r.res.stopped) << r.res.result;
@@ -206,17 +218,8 @@ TEST(RunSignals, P5_AStopOnASmoothedRunBrakesHarderAsItSlows) {
 // 0.190 s to rest instead of 0.279 with the split planned for their top speed; at rest the pieces
 // take back their planned limits and the run goes on from there to the end after the release.
 TEST(RunSignals, P8_AFeedHoldOnASmoothedRunBrakesHarderAsItSlowsAndGoesOn) {
-  auto cfg = machine::default_machine();
-  for (const char* a : {"x", "y", "z"}) {
-    machine::apply_override(cfg, fmt::format("axes.{}.max_vel_mm_s=100", a));
-    machine::apply_override(cfg, fmt::format("axes.{}.max_acc_mm_s2=1000", a));
-    machine::apply_override(cfg, fmt::format("axes.{}.max_jerk_mm_s3=10000", a));
-  }
-  machine::apply_override(cfg, "axes.z.min_mm=-10");
-  machine::apply_override(cfg, "planner.tolerance_mm=0.05");
-  machine::validate(cfg);
-  std::ifstream in(std::string(SOFTMC_SOURCE_DIR) + "/examples/gcode/bench/surfacing.ngc");
-  const std::string program((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto cfg = comparison_machine();
+  const std::string program = surfacing();
   const double t_hold = 6.742, t_release = 7.242;
   const auto r = run(fmt::format("{} feed_hold 1\n{} feed_hold 0\n", t_hold, t_release), cfg, program);
   ASSERT_TRUE(r.res.ok) << r.res.result;

@@ -1,10 +1,12 @@
 // Whole runs on the built-in cutting table: the thesis parts, from G-code to trace and summary.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <string>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "cli_run.hpp"
@@ -424,6 +426,37 @@ TEST(Run, P9_ARejectedProgramIsOneJsonObjectListingEveryDiagnostic) {
   EXPECT_NE(r.err.find(prog + ":31:1: error: X leaves the travel: -30.000 mm"), std::string::npos) << r.err;
 }
 
+namespace {
+// The built-in table with per-axis limits (v, a, j; j = 0: no jerk limit) for X, Y, Z on a 100 mm
+// travel, as the fuzzer's machines were.
+machine::MachineConfig fuzz_machine(const std::array<std::array<double, 3>, 3>& vaj) {
+  auto cfg = machine::default_machine();
+  for (std::size_t i = 0; i < 3; ++i) {
+    const std::string ax = std::string("axes.") + "xyz"[i];
+    machine::apply_override(cfg, fmt::format("{}.max_vel_mm_s={}", ax, vaj[i][0]));
+    machine::apply_override(cfg, fmt::format("{}.max_acc_mm_s2={}", ax, vaj[i][1]));
+    machine::apply_override(cfg, fmt::format("{}.max_jerk_mm_s3={}", ax, vaj[i][2]));
+    machine::apply_override(cfg, ax + ".max_mm=100");
+  }
+  machine::validate(cfg);
+  return cfg;
+}
+
+// Every enabled axis within its speed, acceleration and (where it has one) jerk limit, and the
+// setpoints within P of the program.
+void expect_within_limits(const report::Summary& sum, const machine::MachineConfig& cfg, double p_mm) {
+  for (const auto& a : cfg.axes) {
+    if (!a.enabled) continue;
+    EXPECT_LE(sum.axis[a.index].max_vel_mm_s, a.max_vel_mm_s * (1 + 1e-9)) << a.name;
+    EXPECT_LE(sum.axis[a.index].max_acc_mm_s2, a.max_acc_mm_s2 * (1 + 1e-6)) << a.name;
+    if (a.max_jerk_mm_s3 > 0) {
+      EXPECT_LE(sum.axis[a.index].max_jerk_mm_s3, a.max_jerk_mm_s3 * (1 + 1e-4)) << a.name;
+    }
+  }
+  EXPECT_LE(sum.max_path_deviation_mm, p_mm + 1e-9);
+}
+}  // namespace
+
 // A machine with a jerk limit on X and Z but none on Y (a fuzzer's): the blend at a 4.5° corner
 // (a jerk block: it moves X) runs into a line along Y alone (no jerk limit: the trapezoid follower).
 // The cycle that crosses the junction runs its leftover time on the line from the state at the
@@ -431,27 +464,13 @@ TEST(Run, P9_ARejectedProgramIsOneJsonObjectListingEveryDiagnostic) {
 // 1006.9 mm/s² on its 1000. Every axis within its limits; a block without a jerk limit into one
 // with a limit starts from rest (PlannerJerk.FromABlockWithoutAJerkLimitIntoOneWithTheJerkFollowerStartsAtRest).
 TEST(Run, AJerkBlockIntoOneWithoutAJerkLimitHandsOverAtTheCrossing) {
-  auto cfg = machine::default_machine();
-  const char* sets[] = {"axes.x.max_vel_mm_s=50", "axes.x.max_acc_mm_s2=200", "axes.x.max_jerk_mm_s3=100000",
-                        "axes.y.max_vel_mm_s=50", "axes.y.max_acc_mm_s2=1000", "axes.y.max_jerk_mm_s3=0",
-                        "axes.z.max_vel_mm_s=500", "axes.z.max_acc_mm_s2=3000", "axes.z.max_jerk_mm_s3=10000",
-                        "axes.x.max_mm=100", "axes.y.max_mm=100", "axes.z.max_mm=100"};
-  for (const char* s : sets) machine::apply_override(cfg, s);
-  machine::validate(cfg);
+  const auto cfg = fuzz_machine({{{50, 200, 100000}, {50, 1000, 0}, {500, 3000, 10000}}});
   const auto r = run_source(
       "G21 G90 G17\nG61\nG0 X50 Y50 Z10\nF300\nG64 P0.01\nF1200\n"
       "G5 I-1.031 J-0.131 P1.255 Q-1.224 X1.0000 Y97.4660\n"
       "G1 X1.0196 Y97.7152\nG1 X1.0000 Y97.9613\nG1 X1.0000 Y98.1829\nG1 X1.0000 Y98.4412\nM2\n",
       "mixed.ngc", cfg);
-  for (const auto& a : cfg.axes) {
-    if (!a.enabled) continue;
-    EXPECT_LE(r.sum.axis[a.index].max_vel_mm_s, a.max_vel_mm_s * (1 + 1e-9)) << a.name;
-    EXPECT_LE(r.sum.axis[a.index].max_acc_mm_s2, a.max_acc_mm_s2 * (1 + 1e-6)) << a.name;
-    if (a.max_jerk_mm_s3 > 0) {
-      EXPECT_LE(r.sum.axis[a.index].max_jerk_mm_s3, a.max_jerk_mm_s3 * (1 + 1e-4)) << a.name;
-    }
-  }
-  EXPECT_LE(r.sum.max_path_deviation_mm, 0.01 + 1e-9);
+  expect_within_limits(r.sum, cfg, 0.01);
 }
 
 // A line along Y reversing onto a smoothed run whose far end moves X by 0.4 µm (a fuzzer's, X with
@@ -460,27 +479,13 @@ TEST(Run, AJerkBlockIntoOneWithoutAJerkLimitHandsOverAtTheCrossing) {
 // cap stayed at the axes' 50 mm/s, it was crossed at 0.45 mm/s, and Y's second difference was
 // 1099.6 mm/s² on its 1000. Within 2e-3 rad of a reversal the corner is a stop (as kink() takes it).
 TEST(Run, ANearReversalOntoASmoothedRunIsAStop) {
-  auto cfg = machine::default_machine();
-  const char* sets[] = {"axes.x.max_vel_mm_s=50", "axes.x.max_acc_mm_s2=3000", "axes.x.max_jerk_mm_s3=100000",
-                        "axes.y.max_vel_mm_s=50", "axes.y.max_acc_mm_s2=1000", "axes.y.max_jerk_mm_s3=0",
-                        "axes.z.max_vel_mm_s=500", "axes.z.max_acc_mm_s2=10000", "axes.z.max_jerk_mm_s3=100000",
-                        "axes.x.max_mm=100", "axes.y.max_mm=100", "axes.z.max_mm=100"};
-  for (const char* s : sets) machine::apply_override(cfg, s);
-  machine::validate(cfg);
+  const auto cfg = fuzz_machine({{{50, 3000, 100000}, {50, 1000, 0}, {500, 10000, 100000}}});
   const auto r = run_source(
       "G21 G90 G17\nG64 P0.05\nG0 X50 Y50 Z10\nF3000\nG64 P0.005\nG1 X1.0000 Y93.4239\nG1 X1.0000 Y93.4473\n"
       "G1 X1.0000 Y93.4006\nG1 X1.0000 Y93.3056\nG1 X1.0000 Y93.1779\nG1 X1.0000 Y93.0051\nG1 X1.0000 Y92.8012\n"
       "G1 X1.0000 Y92.5779\nG1 X1.0000 Y92.3315\nG1 X1.0004 Y92.0815\nM2\n",
       "reversal.ngc", cfg);
-  for (const auto& a : cfg.axes) {
-    if (!a.enabled) continue;
-    EXPECT_LE(r.sum.axis[a.index].max_vel_mm_s, a.max_vel_mm_s * (1 + 1e-9)) << a.name;
-    EXPECT_LE(r.sum.axis[a.index].max_acc_mm_s2, a.max_acc_mm_s2 * (1 + 1e-6)) << a.name;
-    if (a.max_jerk_mm_s3 > 0) {
-      EXPECT_LE(r.sum.axis[a.index].max_jerk_mm_s3, a.max_jerk_mm_s3 * (1 + 1e-4)) << a.name;
-    }
-  }
-  EXPECT_LE(r.sum.max_path_deviation_mm, 0.005 + 1e-9);
+  expect_within_limits(r.sum, cfg, 0.005);
 }
 
 // After a helix, a smoothed run's first stub moves X by 1e-5 of its length (a fuzzer's, X with a
@@ -489,24 +494,10 @@ TEST(Run, ANearReversalOntoASmoothedRunIsAStop) {
 // in one cycle: Y at 8.3× its acceleration. Such a step is now also within half a cycle's
 // acceleration (A·dt²/2).
 TEST(Run, AStepFromRestKeepsTheAccelerationOfAnAxisWithoutAJerkLimit) {
-  auto cfg = machine::default_machine();
-  const char* sets[] = {"axes.x.max_vel_mm_s=500", "axes.x.max_acc_mm_s2=10000", "axes.x.max_jerk_mm_s3=1000000",
-                        "axes.y.max_vel_mm_s=100", "axes.y.max_acc_mm_s2=1000", "axes.y.max_jerk_mm_s3=0",
-                        "axes.z.max_vel_mm_s=200", "axes.z.max_acc_mm_s2=3000", "axes.z.max_jerk_mm_s3=1000000",
-                        "axes.x.max_mm=100", "axes.y.max_mm=100", "axes.z.max_mm=100"};
-  for (const char* s : sets) machine::apply_override(cfg, s);
-  machine::validate(cfg);
+  const auto cfg = fuzz_machine({{{500, 10000, 1000000}, {100, 1000, 0}, {200, 3000, 1000000}}});
   const auto r = run_source(
       "G21 G90 G17\nG64 P0.005\nG0 X50 Y50 Z10\nF6000\nF60\nG1 X37.6169 Y49.7255 Z8.9631\n"
       "G3 X36.9142 Y49.3860 Z7.1432 I-0.4874 J0.1117\nG1 X36.9138 Y49.4360\nG1 X36.9150 Y49.4860\nM2\n",
       "stub.ngc", cfg);
-  for (const auto& a : cfg.axes) {
-    if (!a.enabled) continue;
-    EXPECT_LE(r.sum.axis[a.index].max_vel_mm_s, a.max_vel_mm_s * (1 + 1e-9)) << a.name;
-    EXPECT_LE(r.sum.axis[a.index].max_acc_mm_s2, a.max_acc_mm_s2 * (1 + 1e-6)) << a.name;
-    if (a.max_jerk_mm_s3 > 0) {
-      EXPECT_LE(r.sum.axis[a.index].max_jerk_mm_s3, a.max_jerk_mm_s3 * (1 + 1e-4)) << a.name;
-    }
-  }
-  EXPECT_LE(r.sum.max_path_deviation_mm, 0.005 + 1e-9);
+  expect_within_limits(r.sum, cfg, 0.005);
 }
