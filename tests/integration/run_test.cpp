@@ -501,3 +501,18 @@ TEST(Run, AStepFromRestKeepsTheAccelerationOfAnAxisWithoutAJerkLimit) {
       "stub.ngc", cfg);
   expect_within_limits(r.sum, cfg, 0.005);
 }
+
+// Two collinear lines at different feeds (not merged), the second 0.1 µm long and the program's end
+// (a fuzzer's, Y with 10⁶ mm/s³): the position-mode stop came to rest inside the last line, and the
+// snap that ends a block "at rest on its end" pulled it back onto the junction; the path then went
+// on from there, Y at 1.09× its jerk. The snap now only takes a step that ended on or before the
+// block's end; one past it is carried into the next block.
+TEST(Run, AStopThatComesToRestInTheNextBlockIsNotPulledBack) {
+  const auto cfg = fuzz_machine({{{200, 200, 10000}, {500, 3000, 1000000}, {50, 10000, 10000}}});
+  const auto r = run_source("G21 G90 G17\nG0 X99 Y40.4962 Z4.9132\nF6000\nG1 Y40.6152\nF3000\nG1 Y40.6153\nM2\n",
+                            "tiny_last.ngc", cfg);
+  expect_within_limits(r.sum, cfg, 1e-9);
+  // The setpoints never go back along Y.
+  for (std::size_t i = 1; i < r.res.trace.rows.size(); ++i)
+    EXPECT_GE(r.res.trace.rows[i].cmd[1], r.res.trace.rows[i - 1].cmd[1]) << "row " << i;
+}
