@@ -21,11 +21,6 @@ motion::PlannerConfig planner_config(const machine::MachineConfig& cfg) {
   pc.merge_share = cfg.planner.merge_share;
   pc.fillet_share = cfg.planner.fillet_share;
   pc.corner_stop_when_quicker = cfg.planner.corner_stops;
-  // The simulated fallback brake (jerk_guard_simulate) accepted states with no feasible brake in
-  // short windows, worse where limit_to_reach makes a curve's limits rise next to a block that keeps
-  // its own; the configuration refuses it (config_keys.cpp), so this is for the record
-  // (docs/planner.md, "Blocks at rest").
-  pc.limit_to_reach = !cfg.planner.jerk_guard_simulate;
   pc.smoothing_max_turn_rad = cfg.planner.smoothing_turn_deg * std::numbers::pi / 180;
   return pc;
 }
