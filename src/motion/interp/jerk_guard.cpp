@@ -640,6 +640,7 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
   std::size_t ks = c.k + 1, ke = c.k + 1;
   double scan_x = scan(a, j);
   bool scan_stale = false;
+  double a_seen = a;  // the least acceleration of the blocks the scan has passed (c.k, c.k + 1, …, ks − 1)
   std::size_t indexed = built();  // built(), kept here: only the walk's index_through calls change it
   for (;; ++ks) {
     // Enter the blocks ke < ks (indexed: the scan has read them) that the ramp reaches.
@@ -700,6 +701,27 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
             for (std::size_t i = ks; uniform && i < ks + G; ++i) uniform = acc_k[i] == a && jerk_k[i] == j;
           }
           if (within) ke = ks + G;
+          a_seen = std::min(a_seen, gacc[q]);
+          ks += G - 1;
+          continue;
+        }
+        // scanned: a group only π's scan reaches that lowers the jerk (the entry cursor behind it).
+        // Block by block the walk would scan it all without a refresh ending the walk inside it when
+        // its last block lies within the reach and scan of every state the walk can pass through on
+        // the way: the reach only grows as the limits fall (closed form, x.a ≥ 0), the jerk only
+        // falls, and the acceleration never falls below the least of the blocks seen up to the
+        // group's end (a_seen, the group's): scan(a, j) ≥ scan(that least, j now). Entries and
+        // refreshes the group's blocks would have caused are then made by the loops that follow, to
+        // the same fixpoint (PlannerJerk.CertificateGroupsGiveTheBlockByBlockVerdict).
+        // Likewise a group that lowers nothing while a refresh is pending (the quiet case needs none
+        // pending: a refresh there may narrow the scan). Either way `uniform` is false already or
+        // now: a pending refresh means a block of other limits was met.
+        if (closed_form && (gjerk[q] < j || dirty) && gjerk[q] > 0 &&
+            (gjerk[q] >= 0.5 * j || !jerk_gate || *jerk_gate != 0) &&
+            at <= (reach_lo + scan(std::min(a_seen, gacc[q]), j)) * (1 - 1e-12)) {
+          uniform = false;
+          if (gjerk[q] < j) j = gjerk[q], dirty = scan_stale = true;
+          a_seen = std::min(a_seen, gacc[q]);
           ks += G - 1;
           continue;
         }
@@ -717,6 +739,7 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
       break;
     }
     const double jk = jerk_k[ks];
+    a_seen = std::min(a_seen, acc_k[ks]);
     if (acc_k[ks] != a || jk != j) uniform = false;
     if (jk < j) {
       // A far lower jerk is a gate too, where only π's scan reaches it: a ramp from a hard brake
@@ -781,10 +804,18 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
     if (g.groups && k > c.k && (o + k) % G == 0 && k + G <= n_ && start >= kAbs && start > phase0_end) {
       if (k + G > indexed) index_through(k + G - 1), indexed = built();
       const std::size_t q = (o + k) / G;
-      if (g.group_u2[q] > v_up2 && g.group_cap[q] >= r.v_up && (st[k + G - 1] - base_) - p < stop_at) {
-        k += G;
-        ++g_.groups_skipped;
-        continue;
+      if ((st[k + G - 1] - base_) - p < stop_at) {
+        // Every cap and junction speed at least the ramp's peak; or where the speed has fallen to
+        // the group's least cap or junction speed before the group starts (past its peak the
+        // speed only falls, and it falls to a higher cap no later): each block's test passes
+        // (with room for reach_speed's rounding between caps).
+        const bool above = g.group_u2[q] > v_up2 && g.group_cap[q] >= r.v_up;
+        if (above || (g.group_u2[q] > 0 &&
+                      clear(reach_speed(std::min(std::sqrt(g.group_u2[q]), g.group_cap[q])) * (1 + 1e-9) + 1e-12, start))) {
+          k += G;
+          ++g_.groups_skipped;
+          continue;
+        }
       }
     }
     if (k > c.k) {
