@@ -651,7 +651,18 @@ JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Curso
       if (groups && (o + ke) % G == 0 && ke + G <= ks &&
           (gacc[(o + ke) / G] >= 0.5 * a || !gate || *gate != 0)) {
         const double at = (st[ke + G - 1] - base_) - p;
-        if (reached(at, 0)) {
+        // With a refresh pending and the group's end beyond the reach as it stands, block by block
+        // the walk would enter what it reaches and refresh at the first block it does not, with
+        // limits no higher than now: refreshed now (cheap in closed form), a group it then reaches
+        // whole it would enter whole too, and the limits, entries and later tests end the same (a
+        // stale reach only defers a refresh: every test that fails on one refreshes when one is
+        // pending).
+        bool in = reached(at, 0);
+        if (!in && dirty && closed_form) {
+          if (!refresh()) return Cert::Unknown;
+          in = reached(at, 0);
+        }
+        if (in) {
           if (gacc[(o + ke) / G] < a) {
             a = gacc[(o + ke) / G];
             dirty = scan_stale = true;
