@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 # Random G-code programs through `softmc run --json` on random machines: every axis within its speed,
-# acceleration and (where it has one) jerk limit, and the run ends "ok" (or is rejected only for a
+# acceleration and (where it has one) jerk limit, the path deviation within the largest tolerance
+# the program sets (G64 P; G61 alone: 1e-6 mm), and the run ends "ok" (or is rejected only for a
 # path outside the travel). Each failing program is saved with the --set arguments (and stimulus)
 # that reproduce it.
 #
@@ -17,6 +18,7 @@ import json
 import math
 import os
 import random
+import re
 import subprocess
 import time
 
@@ -141,6 +143,11 @@ while time.time() < until:
         if d.get("result") == "rejected" and all("leaves the travel" in x["message"] for x in d["diagnostics"]): pass
         elif d.get("result") != "ok": why.append("result " + str(d.get("result"))[:200])
         else:
+            # The tolerance contract (docs/planner.md "What the tolerance P bounds"): every setpoint
+            # within P of the program; the largest P the program sets bounds them all.
+            p_max = max([float(m) for m in re.findall(r"G64 P([0-9.]+)", text)] + [0.0])
+            dev = d.get("max_path_deviation_mm", 0.0)
+            if dev > p_max * (1 + 1e-6) + 1e-6: why.append(f"deviation {dev:.6g} mm > P {p_max:g}")
             for a in "xyz":
                 v, acc, j = lim[a]; m = d["axes"][a]
                 if m["max_vel_mm_s"] > v * (1 + 1e-6) + 1e-6: why.append(f"{a} v {m['max_vel_mm_s']/v:.6f}")
