@@ -75,6 +75,11 @@ struct InterpolatorConfig {
   // The position-mode stop candidate's plan is sampled on while it is taken (StopPlan); false solves
   // it every cycle (the reference the kept plan is tested against).
   bool keep_stop_plan = true;
+  // Jerk mode, with the certificate: cruising at the speed asked for (a = 0), the guard certifies
+  // this many cycles of that cruise at once (JerkGuard::certify_cruise), and the cycles within
+  // them check only their own step; refused, it is tried again after half as many cycles (0 or 1:
+  // every cycle certifies its own step; tests, benchmarks).
+  int guard_cruise_cycles = 16;
 };
 
 // True when any present axis has a jerk limit (blocks then carry a finite j_mm_s3: the jerk follower runs).
@@ -130,6 +135,7 @@ class Interpolator {
   std::uint64_t jerk_cycles() const { return jerk_cycles_; }
   std::uint64_t guard_simulations() const { return guard_simulations_; }
   std::uint64_t guard_verifies() const { return guard_verifies_; }  // candidates checked
+  std::uint64_t cruise_cycles_certified() const { return cruise_hits_; }  // steps within a cruise certificate
   // Jerk mode: the fallback brake kept from the last accepted step (its cert_* fields).
   const GuardVerdict& fallback() const { return cert_; }
   // Jerk mode: the position-mode stop candidate's plans, solved and sampled on (StopPlan).
@@ -169,6 +175,18 @@ class Interpolator {
   // its cert_* fields (the ramp to rest with cert_a, cert_j; gated: cert_a2 > 0), or (cert_a 0) π.
   GuardVerdict cert_;
   StopPlan stop_plan_;  // the position-mode stop candidate, kept while it is taken cycle after cycle
+  // Jerk mode: a cruise certified ahead (guard_cruise_cycles): at speed v up to end (the index's
+  // coordinates of its epoch, with the window ending no earlier than window_end), the fallback brake
+  // from any point of it the ramp to rest with a, j.
+  struct CruiseCert {
+    bool valid = false;
+    std::uint64_t epoch = 0;
+    std::size_t window_end = 0;
+    double v = 0, end = 0, a = 0, j = 0;
+    int wait = 0;  // cycles before a refused cruise certificate is tried again
+  };
+  CruiseCert cruise_;
+  std::uint64_t cruise_hits_ = 0;
   std::uint64_t jerk_cycles_ = 0, guard_simulations_ = 0, guard_verifies_ = 0;
   std::uint32_t rest_cycles_ = 0;  // jerk mode: cycles in a row that ended at rest without moving
   Inputs in_;

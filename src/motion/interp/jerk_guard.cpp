@@ -237,6 +237,7 @@ JerkGuard::JerkGuard(const core::Ring<Block>& ring, std::size_t n, double s_fron
       !(rule == g.rule) || dt != g.dt) {
     g.origin = g.built = g.nstops = 0;  // begin again from the front
     g.start[0] = 0;
+    ++g.epoch;
   } else {
     g.origin = o;
     if (ring.size() + static_cast<std::size_t>(popped) != g.size)  // pushed since: the old back again
@@ -527,13 +528,13 @@ PathStep JerkGuard::anchored_brake(const ProfileState& now, double a, double j, 
 // the limits of the block the ramp starts in, so its anticipation and jerk never differ). Otherwise
 // Unknown (v then holds the first broken limit as a hint, and v.brake_s the ramp's duration).
 JerkGuard::Cert JerkGuard::certify(const ProfileState& x0, double p, const Cursor& c, GuardVerdict& v,
-                                   std::size_t* gate, std::size_t* jerk_gate) const {
+                                   std::size_t* gate, std::size_t* jerk_gate, double a_init, double j_init) const {
   const ProfileState x{0, x0.v, x0.a, 0};
   v.brake_s = kInf;
   if (!(x.v >= 0)) return Cert::Unknown;
   const auto reach = [](double d) { return d * (1 + kRel) + kAbs + kTouch_mm; };  // d with rounding
   const auto clear = [](double d_need, double d_have) { return d_need * (1 + kRel) + kAbs <= d_have; };
-  double a = acc(c.k), j = jerk(c.k);
+  double a = std::min(acc(c.k), a_init), j = std::min(jerk(c.k), j_init);
   BrakeRamp r{BrakeRamp::Unset{}};  // the ramp with the present (a, j), kept for the check below (built before it is read)
   bool r_built = false;
   double r_a = 0, r_j = 0;  // the limits r was built with
@@ -941,6 +942,33 @@ JerkGuard::Cert JerkGuard::certify_gated(const ProfileState& x0, double p, const
 }
 
 // rt-safe
+// rt-safe
+GuardVerdict JerkGuard::check_step(const PathStep& step) const {
+  GuardVerdict v;
+  Cursor c{0};
+  check(c, 0, v_now_, step, v);
+  return v;
+}
+
+// rt-safe
+GuardVerdict JerkGuard::certify_cruise(const PathStep& cruise) const {
+  GuardVerdict v;
+  Cursor c{0};
+  if (!(cruise.x.a == 0 && cruise.j_abs == 0 && cruise.a_abs == 0 && cruise.x.v >= 0 && cruise.v_peak == cruise.x.v &&
+        cruise.v_min == cruise.x.v)) {
+    fail(v, true, 0, 0, false);
+    return v;
+  }
+  if (!check(c, 0, v_now_, cruise, v) || v.failed()) return v;
+  double a0 = acc(0), j0 = jerk(0);  // every block the stretch passes: c.k's in certify
+  for (std::size_t k = 1; k < c.k; ++k) a0 = std::min(a0, acc(k)), j0 = std::min(j0, jerk(k));
+  if (certify(cruise.x, cruise.x.s, c, v, nullptr, nullptr, a0, j0) != Cert::Safe) {
+    if (!v.failed()) fail(v, true, 0, 0, false);
+    v.cert_a = v.cert_j = 0;
+  }
+  return v;
+}
+
 GuardVerdict JerkGuard::verify(const PathStep& step, const GuardMode& mode) const {
   GuardVerdict v;
   Cursor c{0};

@@ -127,6 +127,7 @@ struct GuardScratch {
   std::uint64_t groups_skipped = 0;  // by the certificate, since construction
   std::uint64_t sharpened = 0;       // ramps the certificate built for a block inside its bracket
   std::uint64_t blocks_indexed = 0;  // since construction
+  std::uint64_t epoch = 0;           // times the index began again: positions compare within one epoch
   // What the index was built for, and how far: positions [origin, built) are indexed, the front
   // block at `origin`.
   std::size_t origin = 0, built = 0, nstops = 0, size = 0;
@@ -159,6 +160,23 @@ class JerkGuard {
   // where that cannot decide, π, cycle by cycle until rest (mode.closed_form: until the rest of π is
   // one ramp that provably keeps every limit, same verdict).
   GuardVerdict verify(const PathStep& step, const GuardMode& mode) const;
+  // rt-safe. Only the check of the step itself (its blocks' caps, junctions, stops, acceleration
+  // and jerk), no fallback brake from where it ends.
+  GuardVerdict check_step(const PathStep& step) const;
+  // rt-safe. A cruise certificate (InterpolatorConfig::guard_cruise_cycles): `cruise` is a stretch
+  // of constant speed from now (x.a = 0, no jerk) ending x.s ahead. Accepted (not failed) when the
+  // stretch keeps every limit and the certificate's ramp to rest from its end, with limits no
+  // higher than those of every block the stretch passes (cert_a, cert_j), keeps every limit ahead.
+  // The ramp with those limits from any point of the stretch at that speed is then a safe fallback
+  // brake too: it enters no block the two checks did not cover, and it is nowhere faster than the
+  // stretch and the ramp from its end (past its start a ramp to rest only slows, so a later start
+  // is at least as fast at every point), and it comes to rest no later (docs/planner.md, "Cruise
+  // certificates").
+  GuardVerdict certify_cruise(const PathStep& cruise) const;
+  // The present position and the window's end (an index position) in the index's coordinates,
+  // which hold while scratch.epoch does.
+  double now_in_index() const { return base_; }
+  std::size_t window_end_in_index() const { return o_ + n_; }
   // rt-safe. One cycle of π from the present state.
   PathStep brake_now(const ProfileState& now) const { return brake({now.s, now.v, now.a, 0}, 0, Cursor{0}); }
   // rt-safe. One cycle of the certified ramp to rest with limits a, j from the present state.
@@ -204,8 +222,10 @@ class JerkGuard {
   // gate (optional): set to the first block the ramp entered whose acceleration is below half the
   // least before it, when it is still 0; jerk_gate likewise to the first block the walk scanned
   // (entered, or only within π's scan) whose jerk is below half the least before it.
+  // a_init, j_init: limits the walk starts from besides block c.k's (certify_cruise's stretch).
   Cert certify(const ProfileState& x, double p, const Cursor& c, GuardVerdict& v, std::size_t* gate = nullptr,
-               std::size_t* jerk_gate = nullptr) const;
+               std::size_t* jerk_gate = nullptr, double a_init = std::numeric_limits<double>::infinity(),
+               double j_init = std::numeric_limits<double>::infinity()) const;
   Cert certify_gated(const ProfileState& x, double p, const Cursor& c, std::size_t gate, GuardVerdict& v) const;
   bool check(Cursor& c, double p0, double v0, const PathStep& st, GuardVerdict& verdict) const;
   double soft_raw(const Block& b) const;  // soft(k) before the front's is relaxed to v_now

@@ -1551,6 +1551,85 @@ TEST(PlannerJerk, TheKeptFallbackBrakeRunsToRestWithinEveryLimit) {
   EXPECT_GT(gated_runs, 5u);  // some of them ran a gated brake
 }
 
+// A cruise certificate (InterpolatorConfig::guard_cruise_cycles) settles up to 16 cycles of cruise
+// at once; the fallback brake it leaves (the ramp to rest with limits no higher than every block
+// the cruise passes) must be safe from every cycle within it. Refusing every candidate from a cycle
+// within one, late or early, makes that brake run to rest from there: every axis within its limits,
+// every setpoint within P, as from any other accepted state.
+TEST(PlannerJerk, TheFallbackBrakeOfACruiseCertificateRunsToRestWithinEveryLimit) {
+  std::uint64_t within = 0;
+  for (std::uint64_t seed = 1; seed <= 60 && !HasFailure(); ++seed) {
+    std::mt19937_64 rng(seed + 7000);
+    std::uniform_real_distribution<double> u(0, 1);
+    const MachineLimits lim = random_jerk_limits(rng, u);
+    const double tol = std::array{0.01, 0.05, 0.2}[rng() % 3];
+    const auto reqs = tangent_chain(rng, u, tol);
+    const std::size_t window = 3 + rng() % 200;
+    // The cycles whose step a cruise certificate settled: from them, a refusal runs its brake.
+    std::vector<std::uint64_t> settled;
+    std::uint64_t hits = 0;
+    const auto find = [&](std::uint64_t c, Interpolator& in) {
+      if (in.cruise_cycles_certified() != hits) settled.push_back(c);  // the step of cycle c − 1
+      hits = in.cruise_cycles_certified();
+    };
+    run_path(lim, reqs, window, {}, find);
+    if (settled.empty()) continue;
+    for (int pick = 0; pick < 3; ++pick) {
+      InterpolatorConfig ic;
+      ic.guard_refuse_from_cycle = static_cast<long long>(settled[rng() % settled.size()]);
+      bool from_cruise = false;
+      std::uint64_t seen = 0;
+      const auto hook = [&](std::uint64_t c, Interpolator& in) {
+        if (static_cast<long long>(c) == ic.guard_refuse_from_cycle) from_cruise = in.cruise_cycles_certified() != seen;
+        seen = in.cruise_cycles_certified();
+      };
+      const auto res = run_path(lim, reqs, window, {}, hook, ic.guard_refuse_from_cycle + 8000, ic);
+      const std::string what = "seed " + std::to_string(seed) + ", refused from " + std::to_string(ic.guard_refuse_from_cycle);
+      ASSERT_EQ(res.error, PlanResult::Ok) << what;
+      EXPECT_TRUE(res.fig.finite) << what;
+      EXPECT_LE(res.fig.v_ratio, 1 + kRatioNoise) << what << ": " << res.fig.describe();
+      EXPECT_LE(res.fig.a_ratio, 1 + kRatioNoise) << what << ": " << res.fig.describe();
+      EXPECT_LE(res.fig.j_ratio, 1 + kRatioNoise) << what << ": " << res.fig.describe();
+      EXPECT_LE(res.fig.deviation_mm, tol + 1e-9) << what << ": " << res.fig.describe();
+      EXPECT_LE(res.block_v_ratio, 1 + 1e-9) << what;
+      EXPECT_LE(res.block_a_ratio, 1 + 1e-6) << what;
+      EXPECT_LE(res.block_j_ratio, 1 + 1e-4) << what;
+      within += from_cruise;
+    }
+  }
+  EXPECT_GT(within, 60u);  // most refusals came within a cruise certificate
+}
+
+// On a smoothed CAM curve at a feed below its caps most cycles cruise: with cruise certificates
+// only about one cycle in 16 walks the blocks ahead, and the setpoints are the ones certifying
+// every cycle gives, to the bit (the fallback brakes differ, but neither is run here).
+TEST(PlannerJerk, CruiseCertificatesGiveTheSameSetpointsAsCertifyingEveryCycle) {
+  const auto lim = jerk_limits(200, 2000, 10000);
+  std::vector<core::Vec> pts;
+  for (int k = 0; k <= 500; ++k) {
+    const double a = 2 * std::numbers::pi * k / 500, r = 30 + 12 * std::sin(3 * a);
+    pts.push_back(xyz(r * std::cos(a), r * std::sin(a), 1 - std::cos(a)));
+  }
+  std::vector<std::vector<Segment>> out;
+  smooth_polyline(pts, PolylineSmoothing{}, out);
+  std::vector<PathRequest> reqs;
+  for (const auto& line : out)
+    for (const auto& seg : line) reqs.push_back({seg, 40, false, static_cast<std::uint32_t>(reqs.size())});
+  InterpolatorConfig cruise, every;
+  every.guard_cruise_cycles = 0;
+  std::uint64_t cycles = 0, hits = 0, verifies = 0, verifies_every = 0;
+  run_path(lim, reqs, 256, {}, [&](std::uint64_t c, Interpolator& in) {
+    cycles = c;
+    hits = in.cruise_cycles_certified();
+    verifies = in.guard_verifies();
+  }, 20'000'000, cruise);
+  run_path(lim, reqs, 256, {}, [&](std::uint64_t, Interpolator& in) { verifies_every = in.guard_verifies(); },
+           20'000'000, every);
+  EXPECT_GT(hits, cycles / 2) << "cycles settled by a cruise certificate, of " << cycles;
+  EXPECT_LT(verifies, verifies_every / 3);
+  expect_identical_runs(lim, reqs, cruise, every, 0);
+}
+
 // The blends at arcs continue each neighbour with its position, unit tangent and curvature vector
 // (make_g2_blend): the planned blocks join with no step of either, so no axis's acceleration steps
 // at a junction (a G1-only blend would pass the limits only through the junction's speed limit).
