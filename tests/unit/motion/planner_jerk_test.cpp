@@ -514,8 +514,9 @@ TEST(PlannerJerk, GatedBrakeNeverDipsBelowTheGateSpeed) {
   EXPECT_FALSE(keeps.failed());
 }
 
-TEST(PlannerJerk, CertificateGroupSkipsGiveTheSameSetpoints) {
-  const auto lim = jerk_limits(200, 2000, 10000);
+// A closed curve of 500 points (a three-lobed loop rising and falling in Z) smoothed as the Channel
+// does on a jerk-limited machine, every piece at `feed_mm_s`.
+static std::vector<PathRequest> smoothed_trefoil(double feed_mm_s) {
   std::vector<core::Vec> pts;
   for (int k = 0; k <= 500; ++k) {
     const double a = 2 * std::numbers::pi * k / 500, r = 30 + 12 * std::sin(3 * a);
@@ -525,7 +526,13 @@ TEST(PlannerJerk, CertificateGroupSkipsGiveTheSameSetpoints) {
   smooth_polyline(pts, PolylineSmoothing{}, out);
   std::vector<PathRequest> reqs;
   for (const auto& line : out)
-    for (const auto& seg : line) reqs.push_back({seg, 150, false, static_cast<std::uint32_t>(reqs.size())});
+    for (const auto& seg : line) reqs.push_back({seg, feed_mm_s, false, static_cast<std::uint32_t>(reqs.size())});
+  return reqs;
+}
+
+TEST(PlannerJerk, CertificateGroupSkipsGiveTheSameSetpoints) {
+  const auto lim = jerk_limits(200, 2000, 10000);
+  const auto reqs = smoothed_trefoil(150);
   InterpolatorConfig groups, one_by_one, built;
   one_by_one.guard_index = false;
   built.guard_distance_bracket = false;
@@ -1515,6 +1522,21 @@ TEST(PlannerJerk, StopLandingOnALongHelixKeepsTheJerkOfASoftAxis) {
   EXPECT_EQ(res.end, reqs.back().geom.end);
 }
 
+// A run whose candidates were all refused from some cycle on (its fallback brake ran to rest): every
+// axis within its speed, acceleration and jerk, every setpoint within P, and every block's own
+// limits kept on the way.
+static void expect_brake_run_within(const RunResult& res, double tol, const std::string& what) {
+  ASSERT_EQ(res.error, PlanResult::Ok) << what;
+  EXPECT_TRUE(res.fig.finite) << what;
+  EXPECT_LE(res.fig.v_ratio, 1 + kRatioNoise) << what << ": " << res.fig.describe();
+  EXPECT_LE(res.fig.a_ratio, 1 + kRatioNoise) << what << ": " << res.fig.describe();
+  EXPECT_LE(res.fig.j_ratio, 1 + kRatioNoise) << what << ": " << res.fig.describe();
+  EXPECT_LE(res.fig.deviation_mm, tol + 1e-9) << what << ": " << res.fig.describe();
+  EXPECT_LE(res.block_v_ratio, 1 + 1e-9) << what;
+  EXPECT_LE(res.block_a_ratio, 1 + 1e-6) << what;
+  EXPECT_LE(res.block_j_ratio, 1 + 1e-4) << what;
+}
+
 // The fallback brake the interpolator keeps (the plain certificate's ramp to rest, or the gated
 // one: ramp to a gate's speed, then to rest from past the gate) is only run for a cycle or two in
 // normal runs. Refusing every candidate from a chosen cycle on (InterpolatorConfig::
@@ -1535,16 +1557,7 @@ TEST(PlannerJerk, TheKeptFallbackBrakeRunsToRestWithinEveryLimit) {
       if (static_cast<long long>(c) == ic.guard_refuse_from_cycle) gated = in.fallback().cert_a2 > 0;
     };
     const auto res = run_path(lim, reqs, 3 + rng() % 200, {}, hook, ic.guard_refuse_from_cycle + 8000, ic);
-    const std::string what = "seed " + std::to_string(seed);
-    ASSERT_EQ(res.error, PlanResult::Ok) << what;
-    EXPECT_TRUE(res.fig.finite) << what;
-    EXPECT_LE(res.fig.v_ratio, 1 + kRatioNoise) << what << ": " << res.fig.describe();
-    EXPECT_LE(res.fig.a_ratio, 1 + kRatioNoise) << what << ": " << res.fig.describe();
-    EXPECT_LE(res.fig.j_ratio, 1 + kRatioNoise) << what << ": " << res.fig.describe();
-    EXPECT_LE(res.fig.deviation_mm, tol + 1e-9) << what << ": " << res.fig.describe();
-    EXPECT_LE(res.block_v_ratio, 1 + 1e-9) << what;  // and every block's own limits on the way
-    EXPECT_LE(res.block_a_ratio, 1 + 1e-6) << what;
-    EXPECT_LE(res.block_j_ratio, 1 + 1e-4) << what;
+    expect_brake_run_within(res, tol, "seed " + std::to_string(seed));
     gated_runs += gated;
     if (HasFailure()) break;
   }
@@ -1584,16 +1597,8 @@ TEST(PlannerJerk, TheFallbackBrakeOfACruiseCertificateRunsToRestWithinEveryLimit
         seen = in.cruise_cycles_certified();
       };
       const auto res = run_path(lim, reqs, window, {}, hook, ic.guard_refuse_from_cycle + 8000, ic);
-      const std::string what = "seed " + std::to_string(seed) + ", refused from " + std::to_string(ic.guard_refuse_from_cycle);
-      ASSERT_EQ(res.error, PlanResult::Ok) << what;
-      EXPECT_TRUE(res.fig.finite) << what;
-      EXPECT_LE(res.fig.v_ratio, 1 + kRatioNoise) << what << ": " << res.fig.describe();
-      EXPECT_LE(res.fig.a_ratio, 1 + kRatioNoise) << what << ": " << res.fig.describe();
-      EXPECT_LE(res.fig.j_ratio, 1 + kRatioNoise) << what << ": " << res.fig.describe();
-      EXPECT_LE(res.fig.deviation_mm, tol + 1e-9) << what << ": " << res.fig.describe();
-      EXPECT_LE(res.block_v_ratio, 1 + 1e-9) << what;
-      EXPECT_LE(res.block_a_ratio, 1 + 1e-6) << what;
-      EXPECT_LE(res.block_j_ratio, 1 + 1e-4) << what;
+      expect_brake_run_within(res, tol,
+                              "seed " + std::to_string(seed) + ", refused from " + std::to_string(ic.guard_refuse_from_cycle));
       within += from_cruise;
     }
   }
@@ -1605,16 +1610,7 @@ TEST(PlannerJerk, TheFallbackBrakeOfACruiseCertificateRunsToRestWithinEveryLimit
 // every cycle gives, to the bit (the fallback brakes differ, but neither is run here).
 TEST(PlannerJerk, CruiseCertificatesGiveTheSameSetpointsAsCertifyingEveryCycle) {
   const auto lim = jerk_limits(200, 2000, 10000);
-  std::vector<core::Vec> pts;
-  for (int k = 0; k <= 500; ++k) {
-    const double a = 2 * std::numbers::pi * k / 500, r = 30 + 12 * std::sin(3 * a);
-    pts.push_back(xyz(r * std::cos(a), r * std::sin(a), 1 - std::cos(a)));
-  }
-  std::vector<std::vector<Segment>> out;
-  smooth_polyline(pts, PolylineSmoothing{}, out);
-  std::vector<PathRequest> reqs;
-  for (const auto& line : out)
-    for (const auto& seg : line) reqs.push_back({seg, 40, false, static_cast<std::uint32_t>(reqs.size())});
+  const auto reqs = smoothed_trefoil(40);
   InterpolatorConfig cruise, every;
   every.guard_cruise_cycles = 0;
   std::uint64_t cycles = 0, hits = 0, verifies = 0, verifies_every = 0;
