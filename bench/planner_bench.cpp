@@ -186,6 +186,8 @@ static void jerk_cycles(benchmark::State& state, const std::vector<motion::PathR
   const auto cycles = static_cast<double>(std::max<std::uint64_t>(1, in.jerk_cycles()));
   state.counters["simulations_per_cycle"] = static_cast<double>(in.guard_simulations()) / cycles;
   state.counters["verifies_per_cycle"] = static_cast<double>(in.guard_verifies()) / cycles;
+  // Cycles whose step a cruise certificate settled (InterpolatorConfig::guard_cruise_cycles).
+  state.counters["cruise_settled"] = static_cast<double>(in.cruise_cycles_certified()) / cycles;
 }
 
 // One jerk-mode interpolation cycle (S-curve path speed with the JerkGuard's verified brake) over a
