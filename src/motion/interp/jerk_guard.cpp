@@ -942,7 +942,6 @@ JerkGuard::Cert JerkGuard::certify_gated(const ProfileState& x0, double p, const
 }
 
 // rt-safe
-// rt-safe
 GuardVerdict JerkGuard::check_step(const PathStep& step) const {
   GuardVerdict v;
   Cursor c{0};

@@ -51,7 +51,10 @@ class PlanQueue {
   // still lower its jerk when the next block arrives: the curvature step at their junction). So
   // the limits of a block never tighten once a brake may have been planned with them; the next
   // commit or the flush at the end of what is planned closes the back. (An open back is always the
-  // block committed last: the path is at rest at its start when it is the only one.)
+  // block committed last: the path is at rest at its start when it is the only one.) Whatever else
+  // changes a visible block's limits in place (a stop's raised limits, their restoring) must
+  // Ring::touch the ring: the jerk guard's index and its cruise certificates, which the follower
+  // keeps for up to 16 cycles, hold only while the ring's changes() moved by pops alone.
   std::size_t visible() const { return ring_.size() - (back_open_ && !ring_.empty() ? 1 : 0); }
   // Drops everything planned, pending included (a fault, or the end of a stop).
   void clear() {

@@ -1564,35 +1564,70 @@ TEST(PlannerJerk, TheKeptFallbackBrakeRunsToRestWithinEveryLimit) {
   EXPECT_GT(gated_runs, 5u);  // some of them ran a gated brake
 }
 
-// A cruise certificate (InterpolatorConfig::guard_cruise_cycles) settles up to 16 cycles of cruise
-// at once; the fallback brake it leaves (the ramp to rest with limits no higher than every block
-// the cruise passes) must be safe from every cycle within it. Refusing every candidate from a cycle
-// within one, late or early, makes that brake run to rest from there: every axis within its limits,
-// every setpoint within P, as from any other accepted state.
-TEST(PlannerJerk, TheFallbackBrakeOfACruiseCertificateRunsToRestWithinEveryLimit) {
+// Refusing every candidate (InterpolatorConfig::guard_refuse_from_cycle) from cycles whose step a
+// cruise certificate settled, on seeded tangent chains: the fallback brake then runs to rest from
+// there, and must keep every limit (expect_brake_run_within). `varied`: periods of 0.25–2 ms,
+// windows from 2 blocks, exact stops now and then, overrides, P-8 feed limits, holds and enable
+// drops on the way, and half the refusals from the last cycle of a stretch. Returns the refusals
+// that came within a certificate.
+static std::uint64_t expect_cruise_fallbacks_within(std::uint64_t seeds, bool varied) {
   std::uint64_t within = 0;
-  for (std::uint64_t seed = 1; seed <= 60 && !HasFailure(); ++seed) {
-    std::mt19937_64 rng(seed + 7000);
+  for (std::uint64_t seed = 1; seed <= seeds && !::testing::Test::HasFailure(); ++seed) {
+    std::mt19937_64 rng(seed + (varied ? 9000 : 7000));
     std::uniform_real_distribution<double> u(0, 1);
-    const MachineLimits lim = random_jerk_limits(rng, u);
+    MachineLimits lim = random_jerk_limits(rng, u);
+    if (varied) lim.period_s = std::array{0.00025, 0.0005, 0.001, 0.002}[rng() % 4];
     const double tol = std::array{0.01, 0.05, 0.2}[rng() % 3];
-    const auto reqs = tangent_chain(rng, u, tol);
-    const std::size_t window = 3 + rng() % 200;
-    // The cycles whose step a cruise certificate settled: from them, a refusal runs its brake.
-    std::vector<std::uint64_t> settled;
+    auto reqs = tangent_chain(rng, u, tol);
+    std::size_t window = 3 + rng() % 200;
+    struct Event {
+      std::uint64_t cycle;
+      int kind;
+      double value;  // 1: back to normal
+    };
+    std::vector<Event> events;
+    if (varied) {
+      for (auto& r : reqs)
+        if (rng() % 6 == 0) r.tolerance_mm = 0;  // G61: an exact stop at its end
+      window = std::array<std::size_t, 7>{2, 3, 4, 8, 16, 3 + rng() % 40, window}[rng() % 7];
+      for (int e = 0; e < 4 && rng() % 2 == 0; ++e) {
+        const auto c = static_cast<std::uint64_t>(u(rng) * 3000);
+        events.push_back({c, e, std::array{0.0, 0.5, 1.2, 2.0}[rng() % 4]});
+        events.push_back({c + 50 + rng() % 500, e, 1});
+      }
+    }
+    const auto apply = [&](std::uint64_t c, Interpolator& in) {
+      for (const auto& e : events) {
+        if (e.cycle != c) continue;
+        const bool back = e.value == 1;
+        const double inf = std::numeric_limits<double>::infinity();
+        if (e.kind == 0) in.set_feed_override(e.value);
+        if (e.kind == 1) in.set_speed_limits(back ? inf : 5 + 100 * e.value, inf);
+        if (e.kind == 2) in.set_feed_hold(!back);
+        if (e.kind == 3) in.set_motion_enable(back);
+      }
+    };
+    std::vector<std::uint64_t> settled, last;  // cycles a certificate settled, the last of each stretch
     std::uint64_t hits = 0;
+    bool was = false;
     const auto find = [&](std::uint64_t c, Interpolator& in) {
-      if (in.cruise_cycles_certified() != hits) settled.push_back(c);  // the step of cycle c − 1
+      apply(c, in);
+      const bool now = in.cruise_cycles_certified() != hits;  // the step of cycle c − 1
+      if (now) settled.push_back(c);
+      if (!now && was) last.push_back(c - 1);
+      was = now;
       hits = in.cruise_cycles_certified();
     };
-    run_path(lim, reqs, window, {}, find);
+    run_path(lim, reqs, window, {}, find, 3'000'000);
     if (settled.empty()) continue;
-    for (int pick = 0; pick < 3; ++pick) {
+    for (int pick = 0; pick < (varied ? 4 : 3); ++pick) {
       InterpolatorConfig ic;
-      ic.guard_refuse_from_cycle = static_cast<long long>(settled[rng() % settled.size()]);
+      const auto& from = varied && pick % 2 == 1 && !last.empty() ? last : settled;
+      ic.guard_refuse_from_cycle = static_cast<long long>(from[rng() % from.size()]);
       bool from_cruise = false;
       std::uint64_t seen = 0;
       const auto hook = [&](std::uint64_t c, Interpolator& in) {
+        apply(c, in);
         if (static_cast<long long>(c) == ic.guard_refuse_from_cycle) from_cruise = in.cruise_cycles_certified() != seen;
         seen = in.cruise_cycles_certified();
       };
@@ -1602,7 +1637,20 @@ TEST(PlannerJerk, TheFallbackBrakeOfACruiseCertificateRunsToRestWithinEveryLimit
       within += from_cruise;
     }
   }
-  EXPECT_GT(within, 60u);  // most refusals came within a cruise certificate
+  return within;
+}
+
+// A cruise certificate (InterpolatorConfig::guard_cruise_cycles) settles up to 16 cycles of cruise
+// at once; the fallback brake it leaves (the ramp to rest with limits no higher than every block
+// the cruise passes) must be safe from every cycle within it, as from any other accepted state.
+TEST(PlannerJerk, TheFallbackBrakeOfACruiseCertificateRunsToRestWithinEveryLimit) {
+  EXPECT_GT(expect_cruise_fallbacks_within(60, false), 60u);  // most refusals came within a certificate
+}
+
+// The same with other periods, short windows, exact stops and PLC events on the way (which begin the
+// guard's index again: a certificate must not outlive them).
+TEST(PlannerJerk, TheFallbackBrakeOfACruiseCertificateKeepsItsLimitsThroughEventsAndStops) {
+  EXPECT_GT(expect_cruise_fallbacks_within(40, true), 60u);
 }
 
 // On a smoothed CAM curve at a feed below its caps most cycles cruise: with cruise certificates
