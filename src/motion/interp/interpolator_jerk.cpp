@@ -93,14 +93,30 @@ const Setpoint& Interpolator::step_jerk(double dt) {
     return v;
   };
   // Cruising at the speed asked for: within a cruise certified ahead, only the step itself is
-  // checked; else such a certificate is tried (and taken for this step too), and the step verified
-  // as any other where it is refused (JerkGuard::certify_cruise).
+  // checked; where none covers the step, such a certificate is tried first (JerkGuard::
+  // certify_cruise), and the step verified as any other where there is none.
   const bool cruise = mode.certify && !refuse && config_.guard_cruise_cycles > 1 && vt > 0 && now.v == vt &&
                       now.a == 0 && step.x.v == vt && step.x.a == 0;
+  const auto covered = [&] {
+    return cruise_.valid && cruise_.epoch == scratch_.epoch && cruise_.v == vt &&
+           guard.window_end_in_index() >= cruise_.window_end && guard.now_in_index() + step.x.s <= cruise_.end;
+  };
+  if (cruise && !covered() && --cruise_.wait < 0) {
+    PathStep ahead;
+    ahead.x = {static_cast<double>(config_.guard_cruise_cycles) * vt * dt, vt, 0, 0};
+    ahead.v_peak = ahead.v_min = vt;
+    const GuardVerdict c = guard.certify_cruise(ahead);
+    ++guard_verifies_;
+    if (!c.failed() && c.cert_a > 0) {
+      cruise_ = {true, scratch_.epoch, guard.window_end_in_index(), vt, guard.now_in_index() + ahead.x.s, c.cert_a,
+                 c.cert_j, 0};
+    } else {
+      cruise_.wait = config_.guard_cruise_cycles / 2;
+    }
+  }
   GuardVerdict first;
   bool settled = false;
-  if (cruise && cruise_.valid && cruise_.epoch == scratch_.epoch && cruise_.v == vt &&
-      guard.window_end_in_index() >= cruise_.window_end && guard.now_in_index() + step.x.s <= cruise_.end) {
+  if (cruise && covered()) {
     first = guard.check_step(step);
     settled = !first.failed();
     if (settled) {
@@ -111,27 +127,7 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   }
   if (!settled) {
     cruise_.valid = false;
-    if (cruise && --cruise_.wait < 0) {
-      PathStep ahead;
-      ahead.x = {static_cast<double>(config_.guard_cruise_cycles) * vt * dt, vt, 0, 0};
-      ahead.v_peak = ahead.v_min = vt;
-      const GuardVerdict c = guard.certify_cruise(ahead);
-      ++guard_verifies_;
-      if (!c.failed() && c.cert_a > 0) {
-        cruise_ = {true, scratch_.epoch, guard.window_end_in_index(), vt, guard.now_in_index() + ahead.x.s, c.cert_a,
-                   c.cert_j, 0};
-        first = guard.check_step(step);
-        settled = !first.failed() && step.x.s <= ahead.x.s;
-        if (settled) {
-          first.cert_a = c.cert_a;
-          first.cert_j = c.cert_j;
-          ++cruise_hits_;
-        }
-      } else {
-        cruise_.wait = config_.guard_cruise_cycles / 2;
-      }
-    }
-    if (!settled) first = verify(step);
+    first = verify(step);
   }
   if (refuse) first.hard_ok = false;
   ++jerk_cycles_;
