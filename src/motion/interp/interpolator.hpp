@@ -77,8 +77,9 @@ struct InterpolatorConfig {
   bool keep_stop_plan = true;
   // Jerk mode, with the certificate: cruising at the speed asked for (a = 0), the guard certifies
   // this many cycles of that cruise at once (JerkGuard::certify_cruise), and the cycles within
-  // them check only their own step; refused, it is tried again after half as many cycles (0 or 1:
-  // every cycle certifies its own step; tests, benchmarks).
+  // them check only their own step; refused, half as long a stretch is tried the next cycle, down to
+  // 2 cycles, then the whole length again after half as many cycles (0 or 1: every cycle certifies
+  // its own step; tests, benchmarks).
   int guard_cruise_cycles = 16;
 };
 
@@ -183,7 +184,8 @@ class Interpolator {
     std::uint64_t epoch = 0;
     std::size_t window_end = 0;
     double v = 0, end = 0, a = 0, j = 0;
-    int wait = 0;  // cycles before a refused cruise certificate is tried again
+    int wait = 0;    // cycles before a refused cruise certificate is tried again
+    int cycles = 0;  // the next one's length (halved after each refusal, down to 2)
   };
   CruiseCert cruise_;
   std::uint64_t cruise_hits_ = 0;

@@ -102,15 +102,16 @@ const Setpoint& Interpolator::step_jerk(double dt) {
            guard.window_end_in_index() >= cruise_.window_end && guard.now_in_index() + step.x.s <= cruise_.end;
   };
   if (cruise && !covered() && --cruise_.wait < 0) {
+    if (cruise_.cycles < 2) cruise_.cycles = config_.guard_cruise_cycles;
     PathStep ahead;
-    ahead.x = {static_cast<double>(config_.guard_cruise_cycles) * vt * dt, vt, 0, 0};
+    ahead.x = {static_cast<double>(cruise_.cycles) * vt * dt, vt, 0, 0};
     ahead.v_peak = ahead.v_min = vt;
     const GuardVerdict c = guard.certify_cruise(ahead);
     ++guard_verifies_;
     if (!c.failed() && c.cert_a > 0) {
       cruise_ = {true, scratch_.epoch, guard.window_end_in_index(), vt, guard.now_in_index() + ahead.x.s, c.cert_a,
-                 c.cert_j, 0};
-    } else {
+                 c.cert_j, 0, config_.guard_cruise_cycles};
+    } else if ((cruise_.cycles /= 2) < 2) {
       cruise_.wait = config_.guard_cruise_cycles / 2;
     }
   }
