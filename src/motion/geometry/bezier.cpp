@@ -181,11 +181,19 @@ CurveError append_rational_bezier(std::vector<Segment>& out, std::span<const Vec
     split_bezier(ctrl, weights, cusp < 0 ? 0.5 : cusp, lp, lw, rp, rw);
   }
   if (cusp >= 0 && n >= 2) {
-    // The pieces stop exactly at the cusp (C' = 0 there: their end legs collapsed, which moves the
-    // curve by about the bisection's 1e-15 of u): their tangents there are then the limits of
-    // C'/|C'| (Segment::tangent), arriving one way and leaving the other.
-    lp[n - 1] = lp[n];
-    rp[1] = rp[0];
+    // The pieces stop exactly at the cusp (C' = 0 there: their end legs collapsed): their tangents
+    // there are then the limits of C'/|C'| (Segment::tangent), arriving one way and leaving the
+    // other. Moving a control point moves no point of the curve farther than it moves (the
+    // Bernstein weights are at most 1), so only legs within kCollapse_mm are collapsed: at a true
+    // cusp they are the bisection's 1e-15 of u long; near one (|C'| a thousandth of the length, a
+    // fuzzer's G5) they were 2e-4 mm, the pieces lay up to 3.5e-4 mm off the programmed curve and a
+    // run's setpoints 1.6e-6 mm off it. Such a near cusp is split there all the same (two pieces
+    // tangent to each other) and run at its curvature.
+    constexpr double kCollapse_mm = 1e-9;
+    if (core::norm(lp[n] - lp[n - 1]) <= kCollapse_mm && core::norm(rp[1] - rp[0]) <= kCollapse_mm) {
+      lp[n - 1] = lp[n];
+      rp[1] = rp[0];
+    }
   }
   const CurveError e = append_rational_bezier(out, {lp.data(), n + 1}, {lw.data(), n + 1}, depth + 1);
   if (e != CurveError::Ok) return e;
