@@ -455,6 +455,15 @@ void expect_within_limits(const report::Summary& sum, const machine::MachineConf
   }
   EXPECT_LE(sum.max_path_deviation_mm, p_mm + 1e-9);
 }
+
+// A fuzzer's case: `text` run on fuzz_machine(vaj), every limit and P kept (expect_within_limits).
+SourceRun run_within_limits(const std::array<std::array<double, 3>, 3>& vaj, const std::string& text,
+                            const std::string& name, double p_mm) {
+  const auto cfg = fuzz_machine(vaj);
+  auto r = run_source(text, name, cfg);
+  expect_within_limits(r.sum, cfg, p_mm);
+  return r;
+}
 }  // namespace
 
 // A machine with a jerk limit on X and Z but none on Y (a fuzzer's): the blend at a 4.5° corner
@@ -464,13 +473,11 @@ void expect_within_limits(const report::Summary& sum, const machine::MachineConf
 // 1006.9 mm/s² on its 1000. Every axis within its limits; a block without a jerk limit into one
 // with a limit starts from rest (PlannerJerk.FromABlockWithoutAJerkLimitIntoOneWithTheJerkFollowerStartsAtRest).
 TEST(Run, AJerkBlockIntoOneWithoutAJerkLimitHandsOverAtTheCrossing) {
-  const auto cfg = fuzz_machine({{{50, 200, 100000}, {50, 1000, 0}, {500, 3000, 10000}}});
-  const auto r = run_source(
-      "G21 G90 G17\nG61\nG0 X50 Y50 Z10\nF300\nG64 P0.01\nF1200\n"
-      "G5 I-1.031 J-0.131 P1.255 Q-1.224 X1.0000 Y97.4660\n"
-      "G1 X1.0196 Y97.7152\nG1 X1.0000 Y97.9613\nG1 X1.0000 Y98.1829\nG1 X1.0000 Y98.4412\nM2\n",
-      "mixed.ngc", cfg);
-  expect_within_limits(r.sum, cfg, 0.01);
+  run_within_limits({{{50, 200, 100000}, {50, 1000, 0}, {500, 3000, 10000}}},
+                    "G21 G90 G17\nG61\nG0 X50 Y50 Z10\nF300\nG64 P0.01\nF1200\n"
+                    "G5 I-1.031 J-0.131 P1.255 Q-1.224 X1.0000 Y97.4660\n"
+                    "G1 X1.0196 Y97.7152\nG1 X1.0000 Y97.9613\nG1 X1.0000 Y98.1829\nG1 X1.0000 Y98.4412\nM2\n",
+                    "mixed.ngc", 0.01);
 }
 
 // A line along Y reversing onto a smoothed run whose far end moves X by 0.4 µm (a fuzzer's, X with
@@ -479,13 +486,11 @@ TEST(Run, AJerkBlockIntoOneWithoutAJerkLimitHandsOverAtTheCrossing) {
 // cap stayed at the axes' 50 mm/s, it was crossed at 0.45 mm/s, and Y's second difference was
 // 1099.6 mm/s² on its 1000. Within 2e-3 rad of a reversal the corner is a stop (as kink() takes it).
 TEST(Run, ANearReversalOntoASmoothedRunIsAStop) {
-  const auto cfg = fuzz_machine({{{50, 3000, 100000}, {50, 1000, 0}, {500, 10000, 100000}}});
-  const auto r = run_source(
-      "G21 G90 G17\nG64 P0.05\nG0 X50 Y50 Z10\nF3000\nG64 P0.005\nG1 X1.0000 Y93.4239\nG1 X1.0000 Y93.4473\n"
-      "G1 X1.0000 Y93.4006\nG1 X1.0000 Y93.3056\nG1 X1.0000 Y93.1779\nG1 X1.0000 Y93.0051\nG1 X1.0000 Y92.8012\n"
-      "G1 X1.0000 Y92.5779\nG1 X1.0000 Y92.3315\nG1 X1.0004 Y92.0815\nM2\n",
-      "reversal.ngc", cfg);
-  expect_within_limits(r.sum, cfg, 0.005);
+  run_within_limits({{{50, 3000, 100000}, {50, 1000, 0}, {500, 10000, 100000}}},
+                    "G21 G90 G17\nG64 P0.05\nG0 X50 Y50 Z10\nF3000\nG64 P0.005\nG1 X1.0000 Y93.4239\n"
+                    "G1 X1.0000 Y93.4473\nG1 X1.0000 Y93.4006\nG1 X1.0000 Y93.3056\nG1 X1.0000 Y93.1779\nG1 X1.0000 Y93.0051\n"
+                    "G1 X1.0000 Y92.8012\nG1 X1.0000 Y92.5779\nG1 X1.0000 Y92.3315\nG1 X1.0004 Y92.0815\nM2\n",
+                    "reversal.ngc", 0.005);
 }
 
 // After a helix, a smoothed run's first stub moves X by 1e-5 of its length (a fuzzer's, X with a
@@ -494,12 +499,10 @@ TEST(Run, ANearReversalOntoASmoothedRunIsAStop) {
 // in one cycle: Y at 8.3× its acceleration. Such a step is now also within half a cycle's
 // acceleration (A·dt²/2).
 TEST(Run, AStepFromRestKeepsTheAccelerationOfAnAxisWithoutAJerkLimit) {
-  const auto cfg = fuzz_machine({{{500, 10000, 1000000}, {100, 1000, 0}, {200, 3000, 1000000}}});
-  const auto r = run_source(
-      "G21 G90 G17\nG64 P0.005\nG0 X50 Y50 Z10\nF6000\nF60\nG1 X37.6169 Y49.7255 Z8.9631\n"
-      "G3 X36.9142 Y49.3860 Z7.1432 I-0.4874 J0.1117\nG1 X36.9138 Y49.4360\nG1 X36.9150 Y49.4860\nM2\n",
-      "stub.ngc", cfg);
-  expect_within_limits(r.sum, cfg, 0.005);
+  run_within_limits({{{500, 10000, 1000000}, {100, 1000, 0}, {200, 3000, 1000000}}},
+                    "G21 G90 G17\nG64 P0.005\nG0 X50 Y50 Z10\nF6000\nF60\nG1 X37.6169 Y49.7255 Z8.9631\n"
+                    "G3 X36.9142 Y49.3860 Z7.1432 I-0.4874 J0.1117\nG1 X36.9138 Y49.4360\nG1 X36.9150 Y49.4860\nM2\n",
+                    "stub.ngc", 0.005);
 }
 
 // Two collinear lines at different feeds (not merged), the second 0.1 µm long and the program's end
@@ -508,10 +511,9 @@ TEST(Run, AStepFromRestKeepsTheAccelerationOfAnAxisWithoutAJerkLimit) {
 // on from there, Y at 1.09× its jerk. The snap now only takes a step that ended on or before the
 // block's end; one past it is carried into the next block.
 TEST(Run, AStopThatComesToRestInTheNextBlockIsNotPulledBack) {
-  const auto cfg = fuzz_machine({{{200, 200, 10000}, {500, 3000, 1000000}, {50, 10000, 10000}}});
-  const auto r = run_source("G21 G90 G17\nG0 X99 Y40.4962 Z4.9132\nF6000\nG1 Y40.6152\nF3000\nG1 Y40.6153\nM2\n",
-                            "tiny_last.ngc", cfg);
-  expect_within_limits(r.sum, cfg, 1e-9);
+  const auto r = run_within_limits({{{200, 200, 10000}, {500, 3000, 1000000}, {50, 10000, 10000}}},
+                                   "G21 G90 G17\nG0 X99 Y40.4962 Z4.9132\nF6000\nG1 Y40.6152\nF3000\nG1 Y40.6153\nM2\n",
+                                   "tiny_last.ngc", 1e-9);
   // The setpoints never go back along Y.
   for (std::size_t i = 1; i < r.res.trace.rows.size(); ++i)
     EXPECT_GE(r.res.trace.rows[i].cmd[1], r.res.trace.rows[i - 1].cmd[1]) << "row " << i;
