@@ -480,6 +480,25 @@ TEST(Run, AJerkBlockIntoOneWithoutAJerkLimitHandsOverAtTheCrossing) {
                     "mixed.ngc", 0.01);
 }
 
+// The same handover within a cycle in which the ramp reached its acceleration (two jerk phases; a
+// fuzzer's, X without a jerk limit, a window of 4 blocks): the crossing was found on one cubic
+// through the cycle's start and end, exact for one phase only, and X started the line 2e-3 mm/s off
+// the speed the path crossed with: X's second difference 10 002.0 on its 10 000 mm/s². It is now
+// found on the phases the cycle ran.
+TEST(Run, AJerkBlockHandsOverAtTheCrossingOfACycleWithTwoJerkPhases) {
+  auto cfg = fuzz_machine({{{200, 10000, 0}, {50, 10000, 100000}, {200, 200, 1000}}});
+  machine::apply_override(cfg, "planner.lookahead=4");
+  std::string text = "G21 G90 G17\nG64 P0.01\nF6000\nG0 X60.4346 Y1.0000 Z2.3460\nG1 X60.4845 Y1.0035\n"
+                     "G1 X60.5345 Y1.0030\n";
+  for (const char* x : {"60.5843", "60.6341", "60.6835", "60.7326", "60.7807", "60.8278", "60.8742", "60.9192",
+                        "60.9632", "61.0048", "61.0443", "61.0833", "61.1212", "61.1578", "61.1936", "61.2287",
+                        "61.2622", "61.2944", "61.3250", "61.3546", "61.3834", "61.4112", "61.4383"})
+    text += fmt::format("G1 X{} Y1.0000\n", x);
+  const auto r = run_source(text + "M2\n", "two_phases.ngc", cfg);
+  expect_within_limits(r.sum, cfg, 0.01);
+  EXPECT_LE(r.sum.axis[0].max_acc_mm_s2, 10000 * (1 + 1e-9));
+}
+
 // A line along Y reversing onto a smoothed run whose far end moves X by 0.4 µm (a fuzzer's, X with
 // a jerk limit and Y without): the run's first stub leaves 1.3e-5 rad off the reversal, and the
 // corner got a quintic blend that degenerated into a cusp its sampled curvature did not see: its

@@ -154,6 +154,7 @@ const Setpoint& Interpolator::step_jerk(double dt) {
     stop_vmax = vmax;
     PathStep st;
     st.x = y;
+    st.gen = StepGen::Stop;
     st.j_abs = j_s;
     st.a_abs = std::max(std::abs(now.a), std::abs(y.a));
     st.v_peak = std::max({now.v, y.v, now.a > 0 ? inflection_speed(now.v, now.a, j_s) : now.v});
@@ -345,21 +346,24 @@ const Setpoint& Interpolator::step_jerk(double dt) {
       // from its start at the speed the path crossed it with; the time this cycle ran past the end
       // is run on it, as step() passes a trapezoid block's leftover time to the jerk follower.
       // Dropping it dipped the speed for one cycle: 20–50 times the acceleration limit at speed (a
-      // review's exploration). The crossing is found on the cubic through the cycle's start state
-      // and its end (s(t) = v0·t + a0·t²/2 + c·t³, exact for one jerk phase): taking the cycle's end
-      // speed and s/v for the time instead lost a tenth of a micrometre at a blend into a line,
-      // 0.7 % over the next cycle's acceleration limit (a fuzzer's case).
+      // review's exploration). The crossing is found on the phases the cycle's step ran (step_at,
+      // the stop plan's last_at), cut where they reach the block's end: taking the cycle's end speed
+      // and s/v for the time lost a tenth of a micrometre at a blend into a line (0.7 % over the next
+      // cycle's acceleration limit), and one cubic through the cycle's start and end, exact for one
+      // jerk phase only, left 2e-3 mm/s where the ramp reached its acceleration within the cycle
+      // (2e-4 over: fuzzers' cases).
       double left_s = 0;
       if (v_ > 0 && x.s > 0) {
-        const double to_end = x.s - s_, c = (x.s - now.v * dt - 0.5 * now.a * dt * dt) / (dt * dt * dt);
+        const double to_end = x.s - s_;
+        const auto at = [&](double t) { return step.gen == StepGen::Stop ? stop_plan_.last_at(t) : step_at(now, step, t); };
         double lo = 0, hi = dt;
-        for (int it = 0; it < 60; ++it) {
+        for (int it = 0; it < 60 && lo < hi; ++it) {
           const double t = 0.5 * (lo + hi);
-          (now.v * t + 0.5 * now.a * t * t + c * t * t * t < to_end ? lo : hi) = t;
+          (at(t).s < to_end ? lo : hi) = t;
         }
         const double t_x = 0.5 * (lo + hi);
         left_s = dt - t_x;
-        v_ = std::clamp(now.v + now.a * t_x + 3 * c * t_x * t_x, std::min(now.v, x.v), std::max(now.v, x.v));
+        v_ = std::clamp(at(t_x).v, std::max(0.0, step.v_min), std::max(step.v_peak, x.v));
       }
       s_ = 0;
       a_ = 0;

@@ -38,6 +38,9 @@ ProfileState StopPlan::step(const ProfileState& x, double target, double v_max, 
     if (here.v == x.v && here.a == x.a && std::abs(target - (target_ - here.s)) <= 1e-12 * std::max(1.0, target)) {
       ProfileState y = otg_.at(t_ + dt);
       y.s -= here.s;
+      t0_ = t_;
+      s0_ = here.s;
+      solved_ = true;
       t_next_ = t_ + dt;
       ++reuses_;
       return y;
@@ -45,7 +48,14 @@ ProfileState StopPlan::step(const ProfileState& x, double target, double v_max, 
   }
   kept_ = false;
   otg_.reset({0, x.v, x.a, 0});  // Otg1 first brings |a| within a_max at full jerk
-  if (otg_.update(target, lim) == OtgResult::ErrorInvalidInput) return ramp_step(x, 0, a_max, j_max, dt);
+  t0_ = s0_ = 0;
+  solved_ = otg_.update(target, lim) != OtgResult::ErrorInvalidInput;
+  if (!solved_) {
+    x0_ = x;
+    a0_ = a_max;
+    j0_ = j_max;
+    return ramp_step(x, 0, a_max, j_max, dt);
+  }
   ++solves_;
   kept_ = true;
   v_max_ = lim.v_max_mm_s;
@@ -55,6 +65,14 @@ ProfileState StopPlan::step(const ProfileState& x, double target, double v_max, 
   t_ = 0;
   t_next_ = dt;
   return otg_.at(dt);
+}
+
+// rt-safe
+ProfileState StopPlan::last_at(double t) const {
+  if (!solved_) return ramp_step(x0_, 0, a0_, j0_, t);
+  ProfileState y = otg_.at(t0_ + t);
+  y.s -= s0_;
+  return y;
 }
 
 // rt-safe

@@ -28,6 +28,9 @@ class StopPlan {
   // faster than v_max; returns the state dt later, exact at the target once reached. From the kept
   // plan when x is where it left the path.
   ProfileState step(const ProfileState& x, double target, double v_max, double a_max, double j_max, double dt);
+  // rt-safe. The state t (0 ≤ t ≤ dt) into the step the last step() returned, from its start
+  // state (s from there): the same plan, cut at t.
+  ProfileState last_at(double t) const;
   // rt-safe. Whether the follower took the last step() as its cycle (else the plan is dropped). Call
   // once every jerk cycle, with false when step() was not asked.
   void taken(bool yes);
@@ -38,6 +41,12 @@ class StopPlan {
   Otg1 otg_;
   double v_max_ = 0, a_max_ = 0, j_max_ = 0, target_ = 0;  // the plan's limits and point (from its origin)
   double t_ = 0, t_next_ = 0;  // time of the present state in the plan; of the state step() returned
+  // The last step(): its start in the plan (time, s), or its start state and limits where the stop
+  // could not be solved and the ramp to rest was taken instead.
+  double t0_ = 0, s0_ = 0;
+  ProfileState x0_{};
+  double a0_ = 0, j0_ = 0;
+  bool solved_ = false;
   bool kept_ = false, asked_ = false;
   std::uint64_t solves_ = 0, reuses_ = 0;
 };

@@ -205,6 +205,10 @@ constexpr double kClosedFormRel = 1e-9;
 // rt-safe
 PathStep ramp_cycle(const ProfileState& x, double vt, double a_max, double j_max, double dt) {
   Cycle c(x, dt);
+  c.st.gen = StepGen::Ramp;
+  c.st.gen_vt = vt;
+  c.st.gen_a = a_max;
+  c.st.gen_j = j_max;
   const RampPhases ph = ramp_phases(x, vt, a_max, j_max);
   c.phase(ph.dur[0], ph.jerk[0]);
   if (c.left <= 0) return c.st;
@@ -218,8 +222,19 @@ PathStep ramp_cycle(const ProfileState& x, double vt, double a_max, double j_max
 // rt-safe
 PathStep jerk_cycle(const ProfileState& x, double j, double dt) {
   Cycle c(x, dt);
+  c.st.gen = StepGen::Jerk;
+  c.st.gen_j = j;
   c.phase(dt, j);
   return c.st;
+}
+
+// rt-safe
+ProfileState step_at(const ProfileState& x, const PathStep& st, double t) {
+  switch (st.gen) {
+    case StepGen::Ramp: return ramp_cycle(x, st.gen_vt, st.gen_a, st.gen_j, t).x;
+    case StepGen::Jerk: return jerk_cycle(x, st.gen_j, t).x;
+    default: return {x.v * t, x.v, 0, 0};
+  }
 }
 
 JerkGuard::JerkGuard(const core::Ring<Block>& ring, std::size_t n, double s_front, double v_now, double dt,

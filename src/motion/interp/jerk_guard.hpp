@@ -56,6 +56,11 @@ inline double soft_speed(const Block& b, const SpeedRule& r) {
   return std::min(v, r.feed_limit_mm_s);
 }
 
+// What made a step, so that any instant within it can be computed again (step_at): the ramp
+// towards gen_vt with limits gen_a, gen_j, or constant jerk gen_j, from the cycle's start state; a
+// position-mode stop (the StopPlan knows it); or a step of constant speed (a cruise).
+enum class StepGen : std::uint8_t { Ramp, Jerk, Stop, Cruise };
+
 // One cycle of path motion: the state it ends in (x.s = distance moved) and bounds within the cycle.
 struct PathStep {
   ProfileState x{};
@@ -63,6 +68,8 @@ struct PathStep {
   double a_abs = 0;   // largest |a| reached
   double v_peak = 0;  // largest speed reached
   double v_min = 0;   // smallest speed reached (< 0: the path would reverse)
+  StepGen gen = StepGen::Cruise;
+  double gen_vt = 0, gen_a = 0, gen_j = 0;
 };
 
 // rt-safe. dt of the velocity ramp from x towards speed vt (|a| first brought within a_max), held
@@ -70,6 +77,10 @@ struct PathStep {
 PathStep ramp_cycle(const ProfileState& x, double vt, double a_max, double j_max, double dt);
 // rt-safe. dt at constant jerk j.
 PathStep jerk_cycle(const ProfileState& x, double j, double dt);
+// rt-safe. The state t (0 ≤ t ≤ the cycle) into the step `st` made by ramp_cycle or jerk_cycle from
+// x (x.s as origin): the same phases, cut at t. (StepGen::Stop is the StopPlan's: StopPlan::last_at;
+// a cruise holds its speed.)
+ProfileState step_at(const ProfileState& x, const PathStep& st, double t);
 
 struct GuardVerdict {
   bool hard_ok = true;   // no hard limit broken (caps, junctions, acceleration, jerk, stops)
