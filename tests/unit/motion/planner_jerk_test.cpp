@@ -11,6 +11,7 @@
 
 #include "motion/geometry/bezier.hpp"
 #include "motion/geometry/polyline_smoothing.hpp"
+#include "motion/interp/jerk_follower.hpp"
 #include "motion/interp/jerk_guard.hpp"
 #include "motion/profile/scurve.hpp"
 #include "planner_run.hpp"
@@ -1113,6 +1114,60 @@ TEST(PlannerJerk, AStopPlanIsSampledOnWhileItIsTaken) {
   double worst = 0;
   for (std::size_t k = 0; k < trace[0].size(); ++k) worst = std::max(worst, core::norm(trace[0][k] - trace[1][k]));
   EXPECT_LT(worst, 1e-9);
+}
+
+// A handover to a block without a jerk limit starts it from the instant the cycle's step crossed
+// the junction (Run.AJerkBlockHandsOverAtTheCrossingOfACycleWithTwoJerkPhases): step_at and
+// StopPlan::last_at give that instant on the phases the step ran. Cut at the cycle's end they are
+// the step; cut at t, the rest of the ramp from there (its remainder is the same ramp) ends where
+// the step did; a constant-jerk step is the cubic; the stop plan's instants match the plan taken on.
+TEST(PlannerJerk, AStepCutAtAnInstantLiesOnThePhasesItRan) {
+  std::mt19937_64 rng(20261204);
+  std::uniform_real_distribution<double> u(0, 1);
+  const double dt = 1e-3;
+  double worst = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const ProfileState x{0, 100 * u(rng), 4000 * u(rng) - 2000, 0};
+    const double vt = 120 * u(rng), a = 200 + 1800 * u(rng), j = 1e4 * std::pow(100, u(rng));
+    const PathStep st = ramp_cycle(x, vt, a, j, dt);
+    ASSERT_EQ(st.gen, StepGen::Ramp);
+    const ProfileState end = step_at(x, st, dt);
+    EXPECT_EQ(end.s, st.x.s);
+    EXPECT_EQ(end.v, st.x.v);
+    EXPECT_EQ(end.a, st.x.a);
+    const double t = dt * u(rng);
+    const ProfileState mid = step_at(x, st, t);
+    EXPECT_GE(mid.v, st.v_min - 1e-9);
+    EXPECT_LE(mid.v, st.v_peak + 1e-9);
+    const PathStep rest = ramp_cycle(mid, vt, a, j, dt - t);
+    worst = std::max({worst, std::abs(mid.s + rest.x.s - st.x.s), std::abs(rest.x.v - st.x.v) * dt});
+    const double jj = j * (2 * u(rng) - 1);
+    const PathStep c = jerk_cycle(x, jj, dt);
+    const ProfileState cm = step_at(x, c, t);
+    EXPECT_NEAR(cm.s, x.v * t + x.a * t * t / 2 + jj * t * t * t / 6, 1e-12);
+    EXPECT_NEAR(cm.v, x.v + x.a * t + jj * t * t / 2, 1e-9);
+  }
+  EXPECT_LT(worst, 1e-12);
+  // A position-mode stop: solved, then sampled on; last_at cuts the step just returned.
+  StopPlan plan;
+  ProfileState x{0, 80, 500, 0};
+  double left = 10;
+  for (int c = 0; c < 500 && left > 0 && (x.v > 0 || c == 0); ++c) {
+    const ProfileState y = plan.step(x, left, 100, 1000, 1e5, dt);
+    left -= y.s;
+    const ProfileState e = plan.last_at(dt);
+    EXPECT_EQ(e.s, y.s);
+    EXPECT_EQ(e.v, y.v);
+    const ProfileState h = plan.last_at(dt / 2), z = plan.last_at(0);
+    EXPECT_NEAR(z.s, 0, 1e-12);
+    EXPECT_EQ(z.v, x.v);
+    EXPECT_GT(h.s, 0);
+    EXPECT_LE(h.s, y.s);
+    EXPECT_GE(h.v, 0);
+    plan.taken(true);
+    x = {0, y.v, y.a, 0};
+  }
+  EXPECT_GT(plan.reuses(), 10u);
 }
 
 // On a circle in its plane each axis sees the path's tangential jerk (less v³κ²) and 3·v·a_t·κ one
