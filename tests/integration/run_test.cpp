@@ -499,6 +499,21 @@ TEST(Run, AJerkBlockHandsOverAtTheCrossingOfACycleWithTwoJerkPhases) {
   EXPECT_LE(r.sum.axis[0].max_acc_mm_s2, 10000 * (1 + 1e-9));
 }
 
+// A G5 that nearly stops without a cusp (a fuzzer's; the curve of
+// GeometryBezier.T2_APieceSharpAtOneEndIsGradedTowardsIt): its curvature climbs to 2.4·10⁶/mm
+// within a micrometre of that point, and the two 0.1 mm pieces ending there ran their whole length
+// at that point's cap: 125.6 s for the 3.4 mm curve at F1200 on the built-in table. Graded towards
+// the sharp point, each piece runs at about its own curvature: 1.03 s, every limit kept, exact on
+// the curve (G61).
+TEST(Run, ANearCuspRunsAtTheCurvatureOfEachPieceOfIt) {
+  const auto cfg = machine::default_machine();
+  const auto r = run_source("G21 G90 G17\nG0 X34.4985 Y81.5772\nG61\nF1200\n"
+                            "G5 I1.175 J1.132 P-0.416 Q1.183 X33.6178 Y79.3326\nM2\n",
+                            "near_cusp.ngc", cfg);
+  expect_within_limits(r.sum, cfg, 1e-6);
+  EXPECT_LT(r.sum.cycle_time_s, 2.0);
+}
+
 // A line along Y reversing onto a smoothed run whose far end moves X by 0.4 µm (a fuzzer's, X with
 // a jerk limit and Y without): the run's first stub leaves 1.3e-5 rad off the reversal, and the
 // corner got a quintic blend that degenerated into a cusp its sampled curvature did not see: its
