@@ -1,0 +1,88 @@
+// Every interpolation cycle of the real CAM programs in examples/gcode/bench/ on the comparison
+// machine (bench/compare_linuxcnc.py's: X, Y, Z at 100 mm/s, 1 000 mm/s², jerk 10 000 mm/s³ or
+// none, P0.05, window 200), each cycle (Simulation::step: the channel feeding the planner, the
+// interpolator, the simulated drives) timed alone on the thread's CPU clock. The mean is what a
+// cycle costs; the 99.9th percentile and the maximum are what a real-time period must leave room
+// for. One iteration runs the whole program (17–56 s of machine time).
+#include <benchmark/benchmark.h>
+#include <time.h>
+
+#include <algorithm>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "gcode_setup.hpp"
+#include "simulation.hpp"
+#include "machine/config.hpp"
+#include "program/iso/parser.hpp"
+
+namespace {
+using namespace softmc;
+
+constexpr std::array<const char*, 4> kPrograms = {"surfacing", "pocket", "engraving", "plasma"};
+
+machine::MachineConfig comparison_machine(bool jerk) {
+  auto cfg = machine::default_machine();
+  for (const char* ax : {"x", "y", "z"}) {
+    const std::string k = std::string("axes.") + ax;
+    machine::apply_override(cfg, k + ".max_vel_mm_s=100");
+    machine::apply_override(cfg, k + ".max_acc_mm_s2=1000");
+    machine::apply_override(cfg, k + (jerk ? ".max_jerk_mm_s3=10000" : ".max_jerk_mm_s3=0"));
+    machine::apply_override(cfg, k + ".min_mm=-1000");
+    machine::apply_override(cfg, k + ".max_mm=1000");
+    machine::apply_override(cfg, k + ".ferror_limit_mm=1000");
+  }
+  machine::apply_override(cfg, "planner.tolerance_mm=0.05");
+  machine::apply_override(cfg, "planner.lookahead=200");
+  machine::validate(cfg);
+  return cfg;
+}
+
+double cpu_us() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return 1e6 * static_cast<double>(t.tv_sec) + 1e-3 * static_cast<double>(t.tv_nsec);
+}
+
+// Args: the program (index into kPrograms), jerk limits (0: trapezoids, 1: 10 000 mm/s³).
+void BM_ProgramCycle(benchmark::State& state) {
+  const std::string name = kPrograms[static_cast<std::size_t>(state.range(0))];
+  const auto cfg = comparison_machine(state.range(1) != 0);
+  const auto setup = app::gcode_setup(cfg);
+  auto parsed = program::iso::parse_file(std::string(SOFTMC_SOURCE_DIR) + "/examples/gcode/bench/" + name + ".ngc",
+                                         setup->options());
+  if (!parsed.program) {
+    state.SkipWithError(("cannot read " + name + ".ngc").c_str());
+    return;
+  }
+  const program::Program prog = std::move(*parsed.program);
+  std::vector<double> us;
+  us.reserve(4'000'000);
+  for (auto _ : state) {
+    state.PauseTiming();
+    us.clear();
+    app::Simulation sim(prog, cfg);
+    state.ResumeTiming();
+    while (!sim.finished() && !sim.faulted() && us.size() < us.capacity()) {
+      const double t0 = cpu_us();
+      sim.step();
+      us.push_back(cpu_us() - t0);
+    }
+    if (!sim.finished()) state.SkipWithError((name + " did not finish").c_str());
+  }
+  std::vector<double> sorted = us;
+  std::sort(sorted.begin(), sorted.end());
+  const auto pct = [&](double p) { return sorted.empty() ? 0.0 : sorted[static_cast<std::size_t>(p * static_cast<double>(sorted.size() - 1))]; };
+  double sum = 0;
+  for (double x : us) sum += x;
+  state.SetLabel(name + (state.range(1) ? ", jerk 10000" : ", trapezoids"));
+  state.counters["cycles"] = static_cast<double>(us.size());
+  state.counters["mean_us"] = us.empty() ? 0.0 : sum / static_cast<double>(us.size());
+  state.counters["p99_us"] = pct(0.99);
+  state.counters["p999_us"] = pct(0.999);
+  state.counters["max_us"] = sorted.empty() ? 0.0 : sorted.back();
+}
+BENCHMARK(BM_ProgramCycle)->ArgsProduct({{0, 1, 2, 3}, {0, 1}})->Iterations(1)->Unit(benchmark::kMillisecond);
+
+}  // namespace
