@@ -115,8 +115,10 @@ struct PolyCurve {
   // does not split) the halves are not integrated (a third of the work) and 0 is returned; the
   // table is the same.
   double finalize(bool estimate = true);
-  // Distance from p to the curve: dense sampling, then Newton on (C - p)·C' = 0. Not rt-critical.
-  double distance_to(const Vec& p) const;
+  // Distance from p to the curve: dense sampling, then Newton on (C - p)·C' = 0 (rt-safe; the
+  // planner's blend checks ask it in the cycle). As Segment::distance_to, a distance at or below
+  // `enough` to some point of the curve is returned as soon as one is found.
+  double distance_to(const Vec& p, double enough = 0) const;
 };
 
 // |C'|² = sp2 and |C''|² = acc2 at a stationary point: C' zero, or below a billionth of C'' (the

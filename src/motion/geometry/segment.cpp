@@ -252,7 +252,7 @@ double Segment::distance_to(const Vec& p, double enough) const {
     const double t = std::clamp(core::dot(p - start, dir), 0.0, length);
     return core::distance(p, start + dir * t);
   }
-  if (kind == SegmentKind::Poly) return poly.distance_to(p);
+  if (kind == SegmentKind::Poly) return poly.distance_to(p, enough);
   // Arc/helix: the parameter is found from the in-plane angle, unwrapped to each turn of the sweep,
   // then refined by Newton steps on the squared distance (helix pitch couples them). Every candidate
   // is a point of the curve, so the answer is never below the true distance. On a helix the nearest

@@ -1090,7 +1090,7 @@ bool Planner::fillet(Block& c, double p_mm) {
   // And the other way: the arc (its ends and 15 points between) lies within P of the quintic, so the
   // program is as near the path as the path is to the program.
   for (int i = 0; i <= 16; ++i)
-    if (!(q.segment.distance_to(h.seg.point(h.length * i / 16)) <= tol)) return false;
+    if (!(q.segment.distance_to(h.seg.point(h.length * i / 16), tol) <= tol)) return false;
   const double vq = target_speed(h.rapid, std::min({a.feed_mm_s, h.feed_mm_s, c.feed_mm_s}));
   const SegmentLimits ql = segment_limits(q.segment, limits_, config_.centripetal_share, vq, false);
   if (!(ql.v_max_mm_s >= config_.fillet_share * std::min(h.v_cap_mm_s, vq)) || !(ql.a_max_mm_s2 > 0) ||

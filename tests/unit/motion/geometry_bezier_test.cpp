@@ -513,3 +513,50 @@ TEST(GeometryBezier, T2_APieceSharpAtOneEndIsGradedTowardsIt) {
   ASSERT_EQ(append_rational_bezier(arc, q, ones), CurveError::Ok);
   EXPECT_EQ(arc.size(), 1u);
 }
+
+// The distance to a Bézier piece against a dense sampling refined by golden sections: exact with
+// no `enough`; with one, a caller that only asks whether it is within `enough` (a fillet's check
+// of the arc it replaces, 17 points each) gets a point's distance at or below it as soon as a
+// coarse-to-fine sample finds one, and the exact distance when there is none.
+TEST(GeometryBezier, DistanceToAPieceIsTheNearestPointOrOneWithinEnough) {
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> u(0, 1);
+  int within = 0, beyond = 0;
+  for (int t = 0; t < 60; ++t) {
+    std::array<core::Vec, 6> c{};
+    for (auto& q : c) q = xy(10 * u(rng), 10 * u(rng), 2 * u(rng));
+    const Segment s = make_bezier(c).segment;
+    for (int k = 0; k < 5; ++k) {
+      core::Vec p = s.point(s.length * u(rng));
+      for (int i = 0; i < 3; ++i) p[i] += 0.5 * (2 * u(rng) - 1);
+      constexpr int kN = 4000;
+      double brute = 1e300, lo = 0, hi = 0;
+      for (int i = 0; i <= kN; ++i) {
+        const double d = core::distance(p, s.point(s.length * i / kN));
+        if (d < brute) brute = d, lo = s.length * std::max(0, i - 1) / kN, hi = s.length * std::min(kN, i + 1) / kN;
+      }
+      for (int it = 0; it < 100; ++it) {
+        const double m1 = lo + (hi - lo) / 3, m2 = hi - (hi - lo) / 3;
+        if (core::distance(p, s.point(m1)) < core::distance(p, s.point(m2)))
+          hi = m2;
+        else
+          lo = m1;
+      }
+      brute = std::min(brute, core::distance(p, s.point(0.5 * (lo + hi))));
+      const double exact = s.distance_to(p);
+      EXPECT_NEAR(exact, brute, 1e-9) << t << " " << k;
+      const double enough = 0.3;
+      const double quick = s.distance_to(p, enough);
+      EXPECT_GE(quick, exact - 1e-12);
+      if (exact < enough - 1e-9) {
+        EXPECT_LE(quick, enough);
+        ++within;
+      } else if (exact > enough + 1e-9) {
+        EXPECT_EQ(quick, exact);
+        ++beyond;
+      }
+    }
+  }
+  EXPECT_GT(within, 50);
+  EXPECT_GT(beyond, 50);
+}
