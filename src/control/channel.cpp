@@ -280,7 +280,7 @@ void Channel::update(double dt_s) {
     dwell_left_s_ = 0;
   }
   const auto& ins = prog_->instructions;
-  curves_at_cycle_ = planner_.curves_built();
+  curves_at_cycle_ = planner_.curves_tried();
   blocks_at_cycle_ = planner_.blocks_committed();
   for (int budget = kMaxInstructionsPerCycle; budget > 0 && pc_ < ins.size(); --budget) {
     const program::Op& op = ins[pc_].op;

@@ -30,10 +30,11 @@ class Channel {
   // Blocks the planner may commit in one cycle (a line, arc or spline piece, a blend: about 0.5 µs
   // each on lines, several on spline pieces).
   static constexpr std::uint64_t kMaxBlocksPerCycle = 64;
-  // Curves the planner may build in one cycle (blend quintics and fillets, 60–190 µs each: their
-  // arc-length tables and sampled limits): the planning work of a cycle stays under about 1 ms
-  // however many sharp corners a cycle's instructions hold.
-  static constexpr std::uint64_t kMaxCurvesPerCycle = 4;
+  // Curves the planner may try in one cycle (corner quintics, curve blends, fillets: each one's fit
+  // or search, 60–800 µs of CPU, taken or not: Planner::curves_tried), checked before each push (one
+  // push tries at most four): the planning work of a cycle stays bounded however many sharp corners
+  // its instructions hold (bench BM_ProgramCycle measures the worst cycles).
+  static constexpr std::uint64_t kMaxCurvesPerCycle = 2;
   // Thinning before smoothing (motion::thin_polyline): tiny collinear lines become legs of at most
   // kThinLeg_mm, at most kMaxThinned points dropped in a row (the work of load stays linear). Legs
   // of 50 µm keep the blocks of a smoothed run at 64 a cycle (kMaxBlocksPerCycle) up to 3.2 m/s, and
@@ -89,10 +90,10 @@ class Channel {
   const motion::PathRequest& request(double feed_mm_s, bool rapid, bool mergeable, std::uint32_t tag_last);
   // rt-safe: pushes the precomputed segments of the curve at pc_; false while the queue is full.
   bool push_curve(int& budget);
-  // rt-safe: this cycle's planning budget is spent (kMaxCurvesPerCycle curves built, or
+  // rt-safe: this cycle's planning budget is spent (kMaxCurvesPerCycle curves tried, or
   // kMaxBlocksPerCycle blocks committed, since it began).
   bool planning_spent() const {
-    return planner_.curves_built() - curves_at_cycle_ >= kMaxCurvesPerCycle ||
+    return planner_.curves_tried() - curves_at_cycle_ >= kMaxCurvesPerCycle ||
            planner_.blocks_committed() - blocks_at_cycle_ >= kMaxBlocksPerCycle;
   }
 
@@ -124,7 +125,7 @@ class Channel {
   std::vector<std::uint32_t> curve_first_;
   std::vector<const char*> curve_error_;  // per instruction: why its curve could not be built, or null
   std::uint32_t curve_next_ = 0;           // next segment of the current curve to push
-  std::uint64_t curves_at_cycle_ = 0;      // planner_.curves_built() when this cycle's update began
+  std::uint64_t curves_at_cycle_ = 0;      // planner_.curves_tried() when this cycle's update began
   std::uint64_t blocks_at_cycle_ = 0;      // planner_.blocks_committed() likewise
   std::vector<std::uint8_t> precomputed_;     // per instruction: a line replaced by smoothing segments,
                                            // or an arc cut into pieces (pushed like a curve's), or

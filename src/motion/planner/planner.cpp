@@ -735,7 +735,7 @@ void Planner::join(Block& b, double p_mm) {
           const double vq = target_speed(a.rapid && b.rapid, std::min(a.feed_mm_s, b.feed_mm_s));
           const bool worth = !(config_.g2_blend_gain * v_arc >= vq);
           const bool build = worth && dq > min_length_mm_;
-          curves_built_ += build ? 1 : 0;
+          curves_tried_ += build ? 1 : 0;
           const SegmentResult q = build ? make_corner_blend(a.seg.end, a.seg.dir, b.seg.dir, dq, alpha, beta)
                                         : SegmentResult{CurveError::BadValue, {}};
           const SegmentLimits ql = q.ok() ? segment_limits(q.segment, limits_, config_.centripetal_share, vq, false) : SegmentLimits{};
@@ -943,6 +943,7 @@ bool Planner::blend_curves(Block& a, Block& b, double tol, double da_half, Block
       return std::min(a.seg.distance_to(q), b.seg.distance_to(q));
     });
   };
+  ++curves_tried_;  // the fit below is the costly part, taken or not
   bool fits = false;
   for (int it = 0; it < 16 && std::min(da, db) > min_length_mm_ && !fits; ++it) {
     const double dev = fit(da, db, ctrl);
@@ -970,7 +971,6 @@ bool Planner::blend_curves(Block& a, Block& b, double tol, double da_half, Block
     }
   }
   if (!fits) return false;
-  ++curves_built_;
   const SegmentResult q = make_bezier(ctrl);
   if (!q.ok()) return false;
   const SegmentLimits ql = segment_limits(q.segment, limits_, config_.centripetal_share, vq, false);
@@ -1074,6 +1074,7 @@ bool Planner::fillet(Block& c, double p_mm) {
       return std::min({a.seg.distance_to(q), h.seg.distance_to(q), c.seg.distance_to(q)});
     });
   };
+  ++curves_tried_;  // the search below is the costly part, taken or not
   double d = d_hi;
   if (!(off(d) <= 0.95 * tol)) {
     if (!(off(d_lo) <= 0.95 * tol)) return false;
@@ -1084,7 +1085,6 @@ bool Planner::fillet(Block& c, double p_mm) {
     }
     d = lo;
   }
-  ++curves_built_;
   const SegmentResult q = make_corner_blend(v, t0, t1, d, alpha, beta);
   if (!q.ok()) return false;
   // And the other way: the arc (its ends and 15 points between) lies within P of the quintic, so the

@@ -159,9 +159,11 @@ class Planner {
   const PlannerConfig& config() const { return config_; }
   // Speed the backward pass plans a block for: hard cap, and the feed at the largest override.
   double plan_cap_mm_s(const Block& b) const;
-  // Curves built by push so far (quintic blends, fillets): the costly part of planning, which the
-  // Channel bounds per cycle.
-  std::uint64_t curves_built() const { return curves_built_; }
+  // Curves push has tried to build so far (corner quintics, curve blends, fillets: each one's fit or
+  // search, whether it is taken or not): the costly part of planning, which the Channel bounds per
+  // cycle. (Counting only those taken let a cycle's failed fillet searches run unbounded: 3 ms at
+  // pocket.ngc's start.)
+  std::uint64_t curves_tried() const { return curves_tried_; }
   // Blocks committed to the window so far: each costs a blend or junction, its limits and the
   // backward pass's step; a line merged into the one held back commits none (the Channel bounds both).
   std::uint64_t blocks_committed() const { return blocks_committed_; }
@@ -214,7 +216,7 @@ class Planner {
   std::array<double, kDenseBlocks> dense_len_{};
   std::uint64_t dense_n_ = 0;
   double dense_sum_mm_ = 0;
-  mutable std::uint64_t curves_built_ = 0;
+  mutable std::uint64_t curves_tried_ = 0;
   std::uint64_t blocks_committed_ = 0;
 };
 
