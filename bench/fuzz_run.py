@@ -129,10 +129,20 @@ while time.time() < until:
         stim += [f"{t:.4f} feed_hold 0", f"{t:.4f} feed_override_permille 1000"] + [f"{t:.4f} axis_enable[{a}] 1" for a in "XYZ"]
         open(f"{out}/p.stim", "w").write("\n".join(stim) + "\n")
         sets += ["--stimulus", f"{out}/p.stim"]
+    def save(why):
+        # failN.ngc, failN.stim (the stimulus, when there is one) and failN.txt: what failed, then
+        # the arguments after `softmc run failN.ngc --json` that reproduce it.
+        global n_fail
+        n_fail += 1
+        open(f"{out}/fail{n_fail}.ngc", "w").write(text)
+        if stim: open(f"{out}/fail{n_fail}.stim", "w").write("\n".join(stim) + "\n")
+        saved = " ".join(sets).replace(f"{out}/p.stim", f"{out}/fail{n_fail}.stim")
+        open(f"{out}/fail{n_fail}.txt", "w").write("; ".join(why) + "\n" + saved + "\n")
     try:
         r = subprocess.run([BIN, "run", path, "--json"] + sets, capture_output=True, text=True, timeout=600)
     except subprocess.TimeoutExpired:
-        n_fail += 1; open(f"{out}/fail{n_fail}.ngc", "w").write(text); open(f"{out}/fail{n_fail}.txt", "w").write("TIMEOUT " + " ".join(sets)); continue
+        save(["TIMEOUT (600 s of wall time)"])
+        continue
     why = []
     try:
         d = json.loads(r.stdout)
@@ -154,12 +164,7 @@ while time.time() < until:
                 if m["max_acc_mm_s2"] > acc * (1 + 1e-6) + 1e-3: why.append(f"{a} a {m['max_acc_mm_s2']/acc:.6f}")
                 if j > 0 and m["max_jerk_mm_s3"] > j * (1 + 1e-4) + 2: why.append(f"{a} j {m['max_jerk_mm_s3']/j:.6f}")
     if why:
-        n_fail += 1
-        open(f"{out}/fail{n_fail}.ngc", "w").write(text)
-        if stim: open(f"{out}/fail{n_fail}.stim", "w").write("\n".join(stim) + "\n")
-        saved = " ".join(sets).replace(f"{out}/p.stim", f"{out}/fail{n_fail}.stim")
-        # Line 2: the arguments after `softmc run failN.ngc --json` that reproduce it.
-        open(f"{out}/fail{n_fail}.txt", "w").write("; ".join(why) + "\n" + saved + "\n")
+        save(why)
     if n_prog % 20 == 0:
         print(f"{n_prog} programs, {n_fail} failures", flush=True)
 print(f"done: {n_prog} programs, {n_fail} failures (saved in {out})", flush=True)
