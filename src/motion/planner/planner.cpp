@@ -78,14 +78,17 @@ double side_time(double x, double v0, double vm, double acc, double j_near, doub
 
 // rt-safe. Largest off(u) over u ∈ (0, 1) — the distance of a blend's point from the curves it
 // joins: samples, then the peak refined between its neighbours (it sits where the nearest of the
-// curves changes, a kink that samples alone miss by up to their spacing).
+// curves changes, a kink that samples alone miss by up to their spacing). A caller that only asks
+// whether the peak is within `above` gets the first value found beyond it (the same answer, a
+// fillet's bisection at about half the work).
 template <class Off>
-double peak_distance(const Off& off) {
+double peak_distance(const Off& off, double above = kInf) {
   constexpr int kSamples = 32;
   double dev = 0;
   int peak = 1;
   for (int i = 1; i < kSamples; ++i) {
     const double e = off(static_cast<double>(i) / kSamples);
+    if (e > above) return e;
     if (e > dev) dev = e, peak = i;
   }
   // Golden-section search: the peak is the max of a rising and a falling distance (unimodal there);
@@ -96,6 +99,7 @@ double peak_distance(const Off& off) {
   double e1 = off(m1), e2 = off(m2);
   for (int k = 0; k < 20; ++k) {
     dev = std::max({dev, e1, e2});
+    if (dev > above) return dev;
     if (e1 < e2) {
       lo = m1;
       m1 = m2;
@@ -916,9 +920,9 @@ bool Planner::blend_curves(Block& a, Block& b, double tol, double da_half, Block
   const double da_max = side_max(a, da_half), db_max = side_max(b, b.length / 2);
   double da = std::min(d0, da_max), db = std::min(d0, db_max);
   std::array<Vec, 6> ctrl{};
-  // The quintic from a's point da before its end to b's point db after its start; true when it lies
-  // within 0.95·P of a and b (then in ctrl).
-  const auto fit = [&](double ea, double eb, std::array<Vec, 6>& out) {
+  // The quintic from a's point da before its end to b's point db after its start (in `out`) and its
+  // largest distance from a and b (or the first found past `above`, where only that is asked).
+  const auto fit = [&](double ea, double eb, std::array<Vec, 6>& out, double above = kInf) {
     const double sa = a.length - ea;
     const Vec p0 = a.seg.point(sa), p1 = b.seg.point(eb);
     const Vec t0 = unit(a.seg.tangent(sa)), t1 = unit(b.seg.tangent(eb));
@@ -941,7 +945,7 @@ bool Planner::blend_curves(Block& a, Block& b, double tol, double da_half, Block
     return peak_distance([&](double u) {
       const Vec q = curve.at(u);
       return std::min(a.seg.distance_to(q), b.seg.distance_to(q));
-    });
+    }, above);
   };
   ++curves_tried_;  // the fit below is the costly part, taken or not
   bool fits = false;
@@ -964,7 +968,7 @@ bool Planner::blend_curves(Block& a, Block& b, double tol, double da_half, Block
       const double next = std::min(1.5 * e, e_max);
       if (!(next > e * (1 + 1e-9))) break;
       std::array<Vec, 6> c2{};
-      const double dev = grow_a ? fit(next, db, c2) : fit(da, next, c2);
+      const double dev = grow_a ? fit(next, db, c2, 0.95 * tol) : fit(da, next, c2, 0.95 * tol);
       if (!(dev <= 0.95 * tol)) break;
       e = next;
       ctrl = c2;
@@ -1072,7 +1076,7 @@ bool Planner::fillet(Block& c, double p_mm) {
     return peak_distance([&](double u) {
       const Vec q = curve.at(u);
       return std::min({a.seg.distance_to(q), h.seg.distance_to(q), c.seg.distance_to(q)});
-    });
+    }, 0.95 * tol);  // only compared with it below
   };
   ++curves_tried_;  // the search below is the costly part, taken or not
   double d = d_hi;
