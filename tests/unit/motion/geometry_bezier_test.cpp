@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "motion/geometry/bezier.hpp"
+#include "nearest_reference.hpp"
 
 using namespace softmc;
 using namespace softmc::motion;
@@ -529,20 +530,7 @@ TEST(GeometryBezier, DistanceToAPieceIsTheNearestPointOrOneWithinEnough) {
     for (int k = 0; k < 5; ++k) {
       core::Vec p = s.point(s.length * u(rng));
       for (int i = 0; i < 3; ++i) p[i] += 0.5 * (2 * u(rng) - 1);
-      constexpr int kN = 4000;
-      double brute = 1e300, lo = 0, hi = 0;
-      for (int i = 0; i <= kN; ++i) {
-        const double d = core::distance(p, s.point(s.length * i / kN));
-        if (d < brute) brute = d, lo = s.length * std::max(0, i - 1) / kN, hi = s.length * std::min(kN, i + 1) / kN;
-      }
-      for (int it = 0; it < 100; ++it) {
-        const double m1 = lo + (hi - lo) / 3, m2 = hi - (hi - lo) / 3;
-        if (core::distance(p, s.point(m1)) < core::distance(p, s.point(m2)))
-          hi = m2;
-        else
-          lo = m1;
-      }
-      brute = std::min(brute, core::distance(p, s.point(0.5 * (lo + hi))));
+      const double brute = test::brute_distance(s, p, 4000);
       const double exact = s.distance_to(p);
       EXPECT_NEAR(exact, brute, 1e-9) << t << " " << k;
       const double enough = 0.3;

@@ -6,6 +6,7 @@
 #include <random>
 
 #include "motion/geometry/segment.hpp"
+#include "nearest_reference.hpp"
 
 using namespace softmc;
 using motion::make_arc;
@@ -118,25 +119,12 @@ TEST(GeometryPlanes, DistanceToSteepHelicesFindsTheNearestPoint) {
   EXPECT_GT(tight, 300);  // the binormal offsets too are mostly at 0.05: nothing else is nearer
 }
 
-// The distance from p to the nearest point of g by a dense sampling refined by golden sections
-// (the reference for Segment::distance_to).
-static double brute_distance(const motion::Segment& g, const core::Vec& p) {
-  constexpr int kN = 20000;
-  int k_best = 0;
-  double brute = 1e300;
-  for (int k = 0; k <= kN; ++k) {
-    const double d = core::distance(p, g.point(g.length * k / kN));
-    if (d < brute) brute = d, k_best = k;
-  }
-  double lo = g.length * std::max(0, k_best - 1) / kN, hi = g.length * std::min(kN, k_best + 1) / kN;
-  for (int it = 0; it < 100; ++it) {
-    const double m1 = lo + (hi - lo) / 3, m2 = hi - (hi - lo) / 3;
-    if (core::distance(p, g.point(m1)) < core::distance(p, g.point(m2)))
-      hi = m2;
-    else
-      lo = m1;
-  }
-  return std::min(brute, core::distance(p, g.point(0.5 * (lo + hi))));
+// distance_to(p) against the dense reference (test::brute_distance): never below it, and above it
+// by rounding only.
+static void expect_nearest(const motion::Segment& g, const core::Vec& p, int t, int q) {
+  const double brute = test::brute_distance(g, p), d = g.distance_to(p);
+  EXPECT_LE(d, brute + 1e-9) << "case " << t << " point " << q;
+  EXPECT_GE(d, brute - 1e-9) << "case " << t << " point " << q;
 }
 
 // Strong spirals (the end radius 0.2 to 1.7 times the start's), with and without a rise: Newton
@@ -158,9 +146,7 @@ TEST(GeometryPlanes, DistanceToStrongSpiralsIsTheNearestPoint) {
       core::Vec p = g.point(g.length * u(rng));
       const double off = std::min(0.2, r0 * std::pow(10, -3 + 2 * u(rng)));
       for (int i = 0; i < 3; ++i) p[i] += off * (2 * u(rng) - 1);
-      const double brute = brute_distance(g, p), d = g.distance_to(p);
-      EXPECT_LE(d, brute + 1e-9) << "case " << t << " point " << q;
-      EXPECT_GE(d, brute - 1e-9) << "case " << t << " point " << q;
+      expect_nearest(g, p, t, q);
       ++checked;
     }
   }
@@ -190,9 +176,7 @@ TEST(GeometryPlanes, DistanceToSlightSpiralsIsTheNearestPoint) {
       core::Vec p = xyz(r * std::cos(th), r * std::sin(th), 1);
       const double off = std::min(0.2, r0 * std::pow(10, -3 + 2 * u(rng)));
       for (int i = 0; i < 2; ++i) p[i] += off * (2 * u(rng) - 1);
-      const double brute = brute_distance(g, p), d = g.distance_to(p);
-      EXPECT_LE(d, brute + 1e-9) << "case " << t << " point " << q;
-      EXPECT_GE(d, brute - 1e-9) << "case " << t << " point " << q;
+      expect_nearest(g, p, t, q);
       ++checked;
     }
   }
