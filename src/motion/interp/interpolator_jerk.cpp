@@ -355,7 +355,17 @@ const Setpoint& Interpolator::step_jerk(double dt) {
       double left_s = 0;
       if (v_ > 0 && x.s > 0) {
         const double to_end = x.s - s_;
-        const auto at = [&](double t) { return step.gen == StepGen::Stop ? stop_plan_.last_at(t) : step_at(now, step, t); };
+        // (A stop step is the stop plan's last one, unless a stop candidate planned earlier in the
+        // cycle was taken (a review's reading: not seen to happen); then the cubic through the
+        // cycle's start and end, exact for one jerk phase, as before.)
+        const ProfileState plan_end = step.gen == StepGen::Stop ? stop_plan_.last_at(dt) : ProfileState{};
+        const bool plan_is_step = plan_end.s == step.x.s && plan_end.v == step.x.v;
+        const double c = (step.x.s - now.v * dt - 0.5 * now.a * dt * dt) / (dt * dt * dt);
+        const auto at = [&](double t) {
+          if (step.gen != StepGen::Stop) return step_at(now, step, t);
+          if (plan_is_step) return stop_plan_.last_at(t);
+          return ProfileState{now.v * t + 0.5 * now.a * t * t + c * t * t * t, now.v + now.a * t + 3 * c * t * t, 0, 0};
+        };
         double lo = 0, hi = dt;
         for (int it = 0; it < 60 && lo < hi; ++it) {
           const double t = 0.5 * (lo + hi);
