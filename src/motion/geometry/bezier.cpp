@@ -113,14 +113,8 @@ double cusp_param(const PolyCurve& c) {
   return -1.0;
 }
 
-// Curvature of c at u (|C' × C''| / |C'|³, in any number of axes).
-double curvature_at(const PolyCurve& c, double u) {
-  const CurveDerivs d = c.derivs(u);
-  const double v2 = core::dot(d.d1, d.d1);
-  if (!(v2 > 0)) return 0;
-  const double cross2 = std::max(0.0, v2 * core::dot(d.d2, d.d2) - core::dot(d.d1, d.d2) * core::dot(d.d1, d.d2));
-  return std::sqrt(cross2) / (v2 * std::sqrt(v2));
-}
+// Curvature of c at u, as the planner's sampled limits see it (curvature_vector).
+double curvature_at(const PolyCurve& c, double u) { return core::norm(curvature_vector(c.derivs(u))); }
 
 // Where to split a piece whose curvature is all at one end (next to a near cusp, where C' nearly
 // stops: κ there 10⁶/mm on a 0.1 mm piece of a fuzzer's G5): the planner gives a piece one cap, from
@@ -202,6 +196,7 @@ CurveError append_piece(std::vector<Segment>& out, std::span<const Vec> ctrl, st
   const std::size_t n = ctrl.size() - 1;
   std::array<Vec, kMaxBezierDegree + 1> lp, rp;
   std::array<double, kMaxBezierDegree + 1> lw, rw;
+  int next_depth = depth + 1, next_grades = grades;
   if (cusp < 0 && (!(err > std::max(kTableTolerance * r.segment.length, kTableFloor_mm)) || depth >= kMaxSplitDepth)) {
     bool halve = depth < kPaySplitDepth && r.segment.length > 2 * kPaySplitMin_mm;
     if (halve) {
@@ -219,9 +214,8 @@ CurveError append_piece(std::vector<Segment>& out, std::span<const Vec> ctrl, st
         return CurveError::Ok;
       }
       split_bezier(ctrl, weights, g, lp, lw, rp, rw);
-      const CurveError e = append_piece(out, {lp.data(), n + 1}, {lw.data(), n + 1}, depth, grades + 1);
-      if (e != CurveError::Ok) return e;
-      return append_piece(out, {rp.data(), n + 1}, {rw.data(), n + 1}, depth, grades + 1);
+      next_depth = depth;  // a grading split: counted apart from the cusp and table splits
+      ++next_grades;
     }
   } else {
     split_bezier(ctrl, weights, cusp < 0 ? 0.5 : cusp, lp, lw, rp, rw);
@@ -241,9 +235,9 @@ CurveError append_piece(std::vector<Segment>& out, std::span<const Vec> ctrl, st
       rp[1] = rp[0];
     }
   }
-  const CurveError e = append_piece(out, {lp.data(), n + 1}, {lw.data(), n + 1}, depth + 1, grades);
+  const CurveError e = append_piece(out, {lp.data(), n + 1}, {lw.data(), n + 1}, next_depth, next_grades);
   if (e != CurveError::Ok) return e;
-  return append_piece(out, {rp.data(), n + 1}, {rw.data(), n + 1}, depth + 1, grades);
+  return append_piece(out, {rp.data(), n + 1}, {rw.data(), n + 1}, next_depth, next_grades);
 }
 }  // namespace
 
