@@ -514,6 +514,21 @@ TEST(Run, ANearCuspRunsAtTheCurvatureOfEachPieceOfIt) {
   EXPECT_LT(r.sum.cycle_time_s, 2.0);
 }
 
+// A G5 with two near cusps 0.06 mm apart (a review's; GeometryBezier.T2_APieceIsGradedOnItsJerkTermToo):
+// graded on κ alone, its 0.1 mm pieces crawled at the jerk cap of their sharp ends (0.07–0.17 mm/s),
+// 3.08 s for the rapid and 0.244 mm of curve on the built-in table (2.5 s of it on the curve).
+// Graded on √|dκ/ds| as well: 0.82 s, every limit kept, on the curve (G61), its length exact to 1e-9.
+TEST(Run, ANearCuspWithTwoTipsRunsAtTheJerkCapOfEachPiece) {
+  const auto cfg = machine::default_machine();
+  const auto r = run_source("G21 G90 G17\nG0 X100.04448776445652 Y100.07219332582257\nG61\nF1200\n"
+                            "G5 I-0.13175071874582045 J-0.23194520248019046 P0.13175335892219664 "
+                            "Q0.23194877223906474 X99.950378222369238 Y99.906515631366091\nM2\n",
+                            "two_tips.ngc", cfg);
+  expect_within_limits(r.sum, cfg, 1e-6);
+  EXPECT_LT(r.sum.cycle_time_s, 1.2);
+  EXPECT_NEAR(r.sum.feed_mm / 0.24443152118297081 - 1, 0, 1e-9);
+}
+
 // A line along Y reversing onto a smoothed run whose far end moves X by 0.4 µm (a fuzzer's, X with
 // a jerk limit and Y without): the run's first stub leaves 1.3e-5 rad off the reversal, and the
 // corner got a quintic blend that degenerated into a cusp its sampled curvature did not see: its

@@ -47,18 +47,32 @@ SegmentResult build(std::span<const Vec> ctrl, std::span<const double> weights, 
   }
   // An axis whose control points differ by rounding only (a piece split off a curve that keeps
   // that axis constant: de Casteljau in homogeneous coordinates, and the collapse at a cusp, leave
-  // 1e-14 to 1e-10 mm) does not move: its points are made exactly equal. Counted as moving, near a
+  // 1e-14 to 1e-10 mm) does not move: its inner points are set to its end values. Counted as moving, near a
   // stationary point of the curve (|C'| → 0 at a cusp) that rounding turned the tangent and gave
   // curvatures of 1e26/mm, speed caps of 1e-16 mm/s, and a fuzzer's G5.2 doubling back along X
   // crept there for ever.
   std::array<Vec, kMaxBezierDegree + 1> p{};
   for (std::size_t i = 0; i < ctrl.size(); ++i) p[i] = ctrl[i];
+  std::array<bool, core::kMaxAxes> flat{};
+  bool all_flat = true;
   for (std::size_t a = 0; a < core::kMaxAxes; ++a) {
-    bool flat = true;
-    for (std::size_t i = 1; flat && i < ctrl.size(); ++i)
-      flat = std::abs(p[i][a] - p[0][a]) <= kFlatAxis_mm;
-    if (flat)
-      for (std::size_t i = 1; i < ctrl.size(); ++i) p[i][a] = p[0][a];
+    flat[a] = true;
+    for (std::size_t i = 1; flat[a] && i < ctrl.size(); ++i)
+      flat[a] = std::abs(p[i][a] - p[0][a]) <= kFlatAxis_mm;
+    all_flat = all_flat && flat[a];
+  }
+  // The ends stay where they are, so the pieces of a split curve still meet exactly (collapsing
+  // the axis onto its first point left gaps of up to kFlatAxis_mm next to a graded cusp tip). A
+  // piece within kFlatAxis_mm on every axis (the tip of a near cusp, graded down to a nanometre)
+  // becomes the straight piece between its ends. Otherwise a flat axis keeps its start value over
+  // the first half of the control points and its end value over the rest: its derivative is zero
+  // at both ends, so it never gives a direction where the moving axes stand still.
+  const std::size_t n = ctrl.size() - 1;
+  for (std::size_t a = 0; a < core::kMaxAxes; ++a) {
+    if (!flat[a]) continue;
+    for (std::size_t i = 1; i < n; ++i)
+      p[i][a] = all_flat ? p[0][a] + (p[n][a] - p[0][a]) * (static_cast<double>(i) / static_cast<double>(n))
+                         : (2 * i < n ? p[0][a] : p[n][a]);
   }
   Segment& s = r.segment;
   s.kind = SegmentKind::Poly;
@@ -113,24 +127,34 @@ double cusp_param(const PolyCurve& c) {
   return -1.0;
 }
 
-// Curvature of c at u, as the planner's sampled limits see it (curvature_vector).
-double curvature_at(const PolyCurve& c, double u) { return core::norm(curvature_vector(c.derivs(u))); }
+// How sharp c is at u (1/mm), as the planner's caps see it: the larger of κ (the centripetal
+// acceleration v²κ) and √|dκ⃗/ds| (the speed term of the path jerk, v³·|dκ⃗/ds|), the latter as the
+// secant of the curvature vector over 1/8192 of u towards the inside of [0, 1].
+double sharpness_at(const PolyCurve& c, double u) {
+  constexpr double kH = 1.0 / 8192;
+  const double u0 = std::min(u, 1 - kH), u1 = u0 + kH;
+  const CurveDerivs d0 = c.derivs(u0), d1 = c.derivs(u1);
+  const Vec k0 = curvature_vector(d0), k1 = curvature_vector(d1);
+  const double ds = c.arc(u0, u1);
+  const double dk = ds > 1e-300 ? core::norm(k1 - k0) / ds : 0.0;
+  return std::max(core::norm(u == u0 ? k0 : k1), std::sqrt(dk));
+}
 
-// Where to split a piece whose curvature is all at one end (next to a near cusp, where C' nearly
+// Where to split a piece whose sharpness is all at one end (next to a near cusp, where C' nearly
 // stops: κ there 10⁶/mm on a 0.1 mm piece of a fuzzer's G5): the planner gives a piece one cap, from
 // its largest κ and |dκ/ds|, so the whole piece crawled at that end's cap (125 s for 3.4 mm at
-// F1200). Split at the u where κ has fallen to a quarter of the end's, the end piece short and the
-// rest graded again: each piece's cap then rises away from the sharp end, and the path takes each
-// at about its own curvature. Only where the end is far sharper than the piece's middle (16×) and
-// than half its length (a radius under twice the length); −1 where not.
+// F1200). Split at the u where the sharpness (sharpness_at) has fallen to a quarter of the end's,
+// the end piece short and the rest graded again: each piece's cap then rises away from the sharp
+// end, and the path takes each at about its own curvature. Only where the end is far sharper than
+// the piece's middle (16×) and than half its length (a radius under twice the length); −1 where not.
 double grade_param(const PolyCurve& c, double length) {
-  const double k0 = curvature_at(c, 0), k1 = curvature_at(c, 1), km = curvature_at(c, 0.5);
+  const double k0 = sharpness_at(c, 0), k1 = sharpness_at(c, 1), km = sharpness_at(c, 0.5);
   const double ke = std::max(k0, k1);
-  if (!(ke >= 0.9 * c.max_curvature && ke > 16 * km && ke * length > 2)) return -1.0;
-  double lo = k0 >= k1 ? 0.0 : 1.0, hi = 0.5;  // κ(lo) ≥ ke/4 > κ(hi)
+  if (!(ke >= 0.9 * std::sqrt(c.jerk_speed_term()) && ke > 16 * km && ke * length > 2)) return -1.0;
+  double lo = k0 >= k1 ? 0.0 : 1.0, hi = 0.5;  // sharpness(lo) ≥ ke/4 > sharpness(hi)
   for (int it = 0; it < 60 && std::abs(hi - lo) > 1e-15; ++it) {
     const double mid = 0.5 * (lo + hi);
-    (curvature_at(c, mid) >= 0.25 * ke ? lo : hi) = mid;
+    (sharpness_at(c, mid) >= 0.25 * ke ? lo : hi) = mid;
   }
   const double u = 0.5 * (lo + hi);
   return u > 1e-12 && u < 1 - 1e-12 ? u : -1.0;
