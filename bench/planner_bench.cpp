@@ -129,6 +129,38 @@ static void BM_PlanArcCorners(benchmark::State& state) {
 }
 BENCHMARK(BM_PlanArcCorners)->Arg(0)->Arg(1);
 
+// Planning fillets (jerk mode, Planner::fillet): a rounded rectangle as CAM pockets cut it, 10 and 6 mm
+// lines joined by tangent R0.5 quarter arcs, P 0.05. Each arc is held and the line after it makes the
+// arc and both lines' ends one quintic (the search: up to ten peak-distance scans against the two
+// lines and the arc, then the arc's distance to the quintic): the costliest push of pocket.ngc.
+static void BM_PlanFillets(benchmark::State& state) {
+  auto lim = xyz();
+  for (int i : {0, 1, 2}) lim.axis[static_cast<std::size_t>(i)].j_max_mm_s3 = 10'000;
+  std::vector<motion::PathRequest> reqs;
+  core::Vec at{};
+  const double r = 0.5, side[2] = {10, 6};
+  for (int k = 0; k < 32; ++k) {
+    const double h = (k % 4) * 3.141592653589793 / 2;  // heading of the line
+    const core::Vec dir{std::cos(h), std::sin(h)}, left{-std::sin(h), std::cos(h)};
+    core::Vec to = at + dir * side[k % 2];
+    reqs.push_back({motion::make_line(at, to), 100, false, static_cast<std::uint32_t>(2 * k), 0, 0.05});
+    at = to;
+    const core::Vec c = at + left * r, end = c + dir * r;
+    reqs.push_back({motion::make_arc(at, end, 0, 1, c[0], c[1], 1), 100, false, static_cast<std::uint32_t>(2 * k + 1), 0, 0.05});
+    at = end;
+  }
+  motion::Planner planner(lim, 256);
+  std::size_t k = 0;
+  for (auto _ : state) {
+    while (planner.queue().full()) planner.queue().ring().pop();
+    if (k % reqs.size() == 0) planner.queue().clear();  // start again from the first point
+    benchmark::DoNotOptimize(planner.push(reqs[k++ % reqs.size()]));
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()));
+  state.counters["curves_per_push"] = static_cast<double>(planner.curves_tried()) / static_cast<double>(k);
+}
+BENCHMARK(BM_PlanFillets)->Iterations(2560);  // fixed: callgrind counts compare (Planner::push ÷ 2560)
+
 // One interpolation cycle over the blended polyline (4 axes), refilled outside the timing.
 static void BM_LookaheadCycle4Axes(benchmark::State& state) {
   const auto reqs = polyline(0.05);

@@ -289,7 +289,16 @@ double Segment::distance_to(const Vec& p, double enough) const {
     return best <= enough;
   };
   if (circle) {
-    for (double rel = base; rel <= hi + 1e-12; rel += kTwoPi) best = std::min(best, core::distance(p, point(length * (rel / sweep))));
+    // The nearest point of the whole circle, where p's angle lies within the sweep: at p's in-plane
+    // distance ρ from the centre, |ρ − R| in the plane, and the other axes are the start's (no
+    // point to evaluate: a fillet's search asks this ~1 500 times a try).
+    if (base <= hi + 1e-12) {
+      double off2 = 0;
+      for (std::size_t i = 0; i < core::kMaxAxes; ++i)
+        if (i != axis0 && i != axis1) off2 += (p[i] - start[i]) * (p[i] - start[i]);
+      const double dr = std::hypot(p[axis0] - c0, p[axis1] - c1) - radius;
+      best = std::min(best, std::sqrt(dr * dr + off2));
+    }
     return best;
   }
   if (best <= enough) return best;

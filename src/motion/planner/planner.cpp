@@ -80,14 +80,17 @@ double side_time(double x, double v0, double vm, double acc, double j_near, doub
 // joins: samples, then the peak refined between its neighbours (it sits where the nearest of the
 // curves changes, a kink that samples alone miss by up to their spacing). A caller that only asks
 // whether the peak is within `above` gets the first value found beyond it (the same answer, a
-// fillet's bisection at about half the work).
+// fillet's bisection at about half the work). off(u, floor) is the distance at u where it exceeds
+// floor, and any value from it up to floor where it does not (the samples only look for the peak: a
+// caller may skip the curves it has not measured once a nearer one is within floor); the golden
+// section asks for exact values (floor −1).
 template <class Off>
 double peak_distance(const Off& off, double above = kInf) {
   constexpr int kSamples = 32;
   double dev = 0;
   int peak = 1;
   for (int i = 1; i < kSamples; ++i) {
-    const double e = off(static_cast<double>(i) / kSamples);
+    const double e = off(static_cast<double>(i) / kSamples, dev);
     if (e > above) return e;
     if (e > dev) dev = e, peak = i;
   }
@@ -96,7 +99,7 @@ double peak_distance(const Off& off, double above = kInf) {
   constexpr double kG = 0.6180339887498949;
   double lo = (peak - 1.0) / kSamples, hi = (peak + 1.0) / kSamples;
   double m1 = hi - kG * (hi - lo), m2 = lo + kG * (hi - lo);
-  double e1 = off(m1), e2 = off(m2);
+  double e1 = off(m1, -1.0), e2 = off(m2, -1.0);
   for (int k = 0; k < 20; ++k) {
     dev = std::max({dev, e1, e2});
     if (dev > above) return dev;
@@ -105,13 +108,13 @@ double peak_distance(const Off& off, double above = kInf) {
       m1 = m2;
       e1 = e2;
       m2 = lo + kG * (hi - lo);
-      e2 = off(m2);
+      e2 = off(m2, -1.0);
     } else {
       hi = m2;
       m2 = m1;
       e2 = e1;
       m1 = hi - kG * (hi - lo);
-      e1 = off(m1);
+      e1 = off(m1, -1.0);
     }
   }
   return std::max({dev, e1, e2});
@@ -942,9 +945,10 @@ bool Planner::blend_curves(Block& a, Block& b, double tol, double da_half, Block
     corner_blend_shape(2 * std::asin(std::min(1.0, core::norm(t1 - t0) / 2)), al, be);
     out = g2_blend_points(p0, t0, a.seg.curvature(sa), x0, p1, t1, b.seg.curvature(eb), x1, al, be);
     const BezierPower curve(out);
-    return peak_distance([&](double u) {
+    return peak_distance([&](double u, double floor) {
       const Vec q = curve.at(u);
-      return std::min(a.seg.distance_to(q), b.seg.distance_to(q));
+      const double e = a.seg.distance_to(q);
+      return e <= floor ? e : std::min(e, b.seg.distance_to(q));
     }, above);
   };
   ++curves_tried_;  // the fit below is the costly part, taken or not
@@ -1073,9 +1077,10 @@ bool Planner::fillet(Block& c, double p_mm) {
     const std::array<Vec, 6> ctrl{v - t0 * d, v - t0 * (alpha * d), v - t0 * (beta * d),
                                   v + t1 * (beta * d), v + t1 * (alpha * d), v + t1 * d};
     const BezierPower curve(ctrl);
-    return peak_distance([&](double u) {
+    return peak_distance([&](double u, double floor) {
       const Vec q = curve.at(u);
-      return std::min({a.seg.distance_to(q), h.seg.distance_to(q), c.seg.distance_to(q)});
+      const double e = std::min(a.seg.distance_to(q), c.seg.distance_to(q));  // the lines first: cheaper
+      return e <= floor ? e : std::min(e, h.seg.distance_to(q));
     }, 0.95 * tol);  // only compared with it below
   };
   ++curves_tried_;  // the search below is the costly part, taken or not

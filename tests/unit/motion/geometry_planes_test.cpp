@@ -182,3 +182,48 @@ TEST(GeometryPlanes, DistanceToSlightSpiralsIsTheNearestPoint) {
   }
   EXPECT_EQ(checked, 320);
 }
+
+// Circles in their plane (G17, G18, G19; up to full and multi-turn circles, either direction): the
+// distance is taken without evaluating a point, |ρ − R| in the plane with the other axes' offset,
+// where p's angle lies within the sweep, else the nearer end (a fillet's search asks ~1 500 of them a
+// try). Points off the plane, inside and outside the circle, at its centre, and beyond its ends:
+// the nearest point of the dense reference all the same.
+TEST(GeometryPlanes, DistanceToCirclesIsTheNearestPoint) {
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> u(0, 1);
+  const std::uint8_t planes[3][2] = {{kX, kY}, {kZ, kX}, {kY, kZ}};
+  int checked = 0;
+  for (int t = 0; t < 90; ++t) {
+    const auto [a0, a1] = planes[t % 3];
+    const double r = 0.2 + 5 * u(rng), th0 = 6.283 * u(rng), c0 = 10 * u(rng) - 5, c1 = 10 * u(rng) - 5;
+    const int turns = (t % 2 ? 1 : -1) * (t % 7 == 0 ? 2 : 1);
+    const double sweep = (turns > 0 ? 1 : -1) * (t % 7 == 0 ? 2 * std::numbers::pi + 6 * u(rng) : 6.2 * u(rng) + 0.05);
+    core::Vec s = xyz(3, -2, 4), e = s;
+    s[a0] = c0 + r * std::cos(th0);
+    s[a1] = c1 + r * std::sin(th0);
+    e[a0] = c0 + r * std::cos(th0 + sweep);
+    e[a1] = c1 + r * std::sin(th0 + sweep);
+    const auto g = make_arc(s, e, a0, a1, c0, c1, turns);
+    if (g.dradius != 0) continue;  // the end off the circle by a rounding: a slight spiral (above)
+    for (int q = 0; q < 5; ++q) {
+      core::Vec p;
+      if (q == 4) {  // the centre, off the plane
+        p = s;
+        p[a0] = c0;
+        p[a1] = c1;
+      } else {
+        const double f = q < 2 ? u(rng) : q == 2 ? -0.2 * u(rng) : 1 + 0.2 * u(rng);
+        p = g.point(g.length * std::clamp(f, 0.0, 1.0));
+        const double th = std::atan2(p[a1] - c1, p[a0] - c0) + (f < 0 ? f : f > 1 ? f - 1 : 0) * sweep;
+        const double rr = r * (0.3 + 1.4 * u(rng));
+        p[a0] = c0 + rr * std::cos(th);
+        p[a1] = c1 + rr * std::sin(th);
+      }
+      for (int i = 0; i < 3; ++i)
+        if (i != a0 && i != a1) p[i] += 0.5 * (2 * u(rng) - 1);
+      expect_nearest(g, p, t, q);
+      ++checked;
+    }
+  }
+  EXPECT_GE(checked, 150);  // 205: 41 of the 90 ends land on their circle exactly
+}
