@@ -529,6 +529,25 @@ TEST(Run, ANearCuspWithTwoTipsRunsAtTheJerkCapOfEachPiece) {
   EXPECT_NEAR(r.sum.feed_mm / 0.24443152118297081 - 1, 0, 1e-9);
 }
 
+// 3D_Chips.ngc's first floor pass (N390–N490, Z moved up by 40.5 mm into this table's travel) on the
+// comparison machine (100 mm/s, 1000 mm/s², 10 000 mm/s³, P0.1): an 8.9 mm leg along the floor, then
+// 0.3 mm legs turning up the wall. The point between them lay 0.027 mm off its neighbours' chord, more
+// than the tenth of P the smoothing moved such points by: the spline bent sharply there, and the path
+// came to 0.0004 mm/s in the bend (38 such near-stops on the whole program). Moved within half of P:
+// never below 1 mm/s there, every limit and P kept
+// (PolylineSmoothing.APassEndFarOffTheChordIsEvenedWithinHalfOfP).
+TEST(Run, APassEndOfASmoothedRunIsNotANearStop) {
+  const auto r = run_within_limits({{{100, 1000, 10000}, {100, 1000, 10000}, {100, 1000, 10000}}},
+                                   "G21 G90 G17\nG64 P0.1\nG0 X53 Y20 Z10\nF6000\nG1 Y25.109\nY32.109\nY44.109\nY53\n"
+                                   "X52.972 Y53.293\nX52.893 Y53.547\nX52.769 Y53.762\nX52.609 Y53.937\nX52.42 Y54.074\n"
+                                   "X52.209 Y54.172\nX51.983 Y54.23\nX51.75 Y54.25\nM2\n",
+                                   "pass_end.ngc", 0.1);
+  double slowest = 1e300;
+  for (const auto& row : r.res.trace.rows)
+    if (row.cmd[1] > 52.0 && row.cmd[1] < 54.2 && row.cmd[0] > 51.8) slowest = std::min(slowest, row.path_v);
+  EXPECT_GT(slowest, 1.0);
+}
+
 // A line along Y reversing onto a smoothed run whose far end moves X by 0.4 µm (a fuzzer's, X with
 // a jerk limit and Y without): the run's first stub leaves 1.3e-5 rad off the reversal, and the
 // corner got a quintic blend that degenerated into a cusp its sampled curvature did not see: its

@@ -94,13 +94,15 @@ bool build_run(std::span<const Vec> pts, std::size_t a, std::size_t b, int passe
   std::vector<Vec> c(pts.begin() + static_cast<std::ptrdiff_t>(a), pts.begin() + static_cast<std::ptrdiff_t>(b) + 1);
   // A uniform B-spline bends where its control legs change length: a point between a long line and
   // a far shorter one (CAM output: 8 mm, then 0.008 mm) puts a cusp-like curvature spike there
-  // (κ ≈ 900/mm on 3D_Chips.ngc, a speed cap of 0.06 mm/s). Where such a point lies on the chord of
-  // its neighbours (within a tenth of P), it moves along that chord to its middle: the legs are
-  // even, the curve the same within that tenth (the pieces are still checked against the program).
+  // (κ ≈ 900/mm on 3D_Chips.ngc, a speed cap of 0.06 mm/s). Where such a point lies near the chord
+  // of its neighbours (within max_leg_shift of P: half of it since stop 26, a tenth before, which
+  // left 3D_Chips's pass ends 0.027 mm off at P 0.09 with a piece capped at 4 mm/s that the path
+  // nearly stopped in), it moves along that chord to its middle: the legs are even, the curve moves
+  // by no more than that (the pieces are still checked against the program within P).
   for (std::size_t k = 1; k + 1 < c.size(); ++k) {
     const double lin = core::distance(c[k - 1], c[k]), lout = core::distance(c[k], c[k + 1]);
     if (std::min(lin, lout) < cfg.max_leg_ratio * std::max(lin, lout) &&
-        distance_to_chord(c[k], c[k - 1], c[k + 1]) <= 0.1 * cfg.tolerance_mm)
+        distance_to_chord(c[k], c[k - 1], c[k + 1]) <= cfg.max_leg_shift * cfg.tolerance_mm)
       c[k] = (c[k - 1] + c[k + 1]) * 0.5;
   }
   std::vector<Vec> next(c.size());

@@ -248,6 +248,9 @@ TEST(PolylineSmoothing, PiecesThatBendAtOneEndAreSplit) {
   const auto pts = wall();
   PolylineSmoothing split, whole;
   whole.split_depth = 0;
+  // The point between the long line and the bend stays where it is (moved to its neighbours'
+  // mid-chord, as "uneven legs" does within half of P, the long piece bends less and is left whole).
+  split.max_leg_ratio = whole.max_leg_ratio = 0;
   std::vector<std::vector<Segment>> ls, lw;
   smooth_polyline(pts, split, ls);
   smooth_polyline(pts, whole, lw);
@@ -316,6 +319,48 @@ TEST(PolylineSmoothing, UnevenLegsDoNotMakeCurvatureSpikes) {
   const auto re = run_within_limits(le, pts.back()), ru = run_within_limits(lu, pts.back());
   EXPECT_LT(static_cast<double>(re.cycles), 0.5 * static_cast<double>(ru.cycles)) << re.cycles << " vs " << ru.cycles;
 }
+// 3D_Chips.ngc N390–N490 (X53, the floor at Z−30.5): a pass along the floor ends with an 8.9 mm leg,
+// then 0.3 mm legs turn up the wall 5.5° at a time. The point between the long leg and the first short
+// one lies 0.027 mm off its neighbours' chord, more than the tenth of P (0.09) that used to be moved:
+// the spline's piece there had κ 1.75/mm and |dκ/ds| 74/mm², and under a jerk limit the path came
+// to 0.0004 mm/s in it (38 such near-stops on 3D_Chips). Moved within half of P, the curve stays
+// within P of the program and bends gently there.
+TEST(PolylineSmoothing, APassEndFarOffTheChordIsEvenedWithinHalfOfP) {
+  const double ys[] = {25.109, 32.109, 44.109, 53};
+  const double xy[][2] = {{52.972, 53.293}, {52.893, 53.547}, {52.769, 53.762}, {52.609, 53.937},
+                          {52.42, 54.074},  {52.209, 54.172}, {51.983, 54.23}};
+  std::vector<Vec> pts;
+  for (double y : ys) {
+    Vec v;
+    v[0] = 53, v[1] = y, v[2] = -30.5;
+    pts.push_back(v);
+  }
+  for (const auto& p : xy) {
+    Vec v;
+    v[0] = p[0], v[1] = p[1], v[2] = -30.5;
+    pts.push_back(v);
+  }
+  PolylineSmoothing half;  // as the Channel sets it for P0.1
+  half.tolerance_mm = 0.09;
+  half.max_turn_rad = 20 * std::numbers::pi / 180;
+  PolylineSmoothing tenth = half;
+  tenth.max_leg_shift = 0.1;
+  std::vector<std::vector<Segment>> lh, lt;
+  smooth_polyline(pts, half, lh);
+  smooth_polyline(pts, tenth, lt);
+  const auto dk_max = [](const std::vector<std::vector<Segment>>& lines) {
+    double dk = 0;
+    for (const auto& s : flatten(lines))
+      if (s.kind == SegmentKind::Poly) dk = std::max(dk, s.poly.jerk_speed_term());
+    return dk;
+  };
+  EXPECT_GT(dk_max(lt), 50.0);  // the bend this is about (74/mm²)
+  EXPECT_LT(dk_max(lh), 20.0);  // where the runs start and end (the curvature rises from 0): 10/mm²
+  for (const auto& s : flatten(lh))
+    for (int i = 0; i <= 16; ++i) EXPECT_LE(distance_to_polyline(s.point(s.length * i / 16), pts), half.tolerance_mm + 1e-12);
+  // Run through the Channel: Run.APassEndOfASmoothedRunIsNotANearStop.
+}
+
 // Thinning before smoothing (thin_polyline): 1 µm lines along a line, rounded as CAM prints them,
 // become legs of at most max_leg; a point off the chord by more than eps, a reversal and a line
 // longer than max_leg are kept, and so are the first and last points.
