@@ -22,6 +22,19 @@ motion::MachineLimits xyz() {
   return m;
 }
 
+// One push per iteration, round the requests again and again: the window is emptied as it fills
+// (the pushes, not the queue, are timed) and cleared at the start of each round. Returns the pushes.
+std::size_t push_rounds(benchmark::State& state, motion::Planner& planner, const std::vector<motion::PathRequest>& reqs) {
+  std::size_t k = 0;
+  for (auto _ : state) {
+    while (planner.queue().full()) planner.queue().ring().pop();
+    if (k % reqs.size() == 0) planner.queue().clear();  // start again from the first point
+    benchmark::DoNotOptimize(planner.push(reqs[k++ % reqs.size()]));
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()));
+  return k;
+}
+
 // CAM-like closed polyline: 0.05 mm chords of a 50 mm circle in XY with Z and U swinging along
 // (4 axes), so it can be run round and round.
 std::vector<motion::PathRequest> polyline(double chord_mm) {
@@ -78,13 +91,7 @@ static void BM_PlanCornersJerk(benchmark::State& state) {
     at = to;
   }
   motion::Planner planner(lim, 256);
-  std::size_t k = 0;
-  for (auto _ : state) {
-    while (planner.queue().full()) planner.queue().ring().pop();
-    if (k % reqs.size() == 0) planner.queue().clear();  // start the zig-zag again from its first point
-    benchmark::DoNotOptimize(planner.push(reqs[k++ % reqs.size()]));
-  }
-  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()));
+  push_rounds(state, planner, reqs);  // the zig-zag again and again from its first point
 }
 BENCHMARK(BM_PlanCornersJerk);
 
@@ -119,13 +126,7 @@ static void BM_PlanArcCorners(benchmark::State& state) {
     heading = h0 + 3.141592653589793 / 2;  // the arc's end tangent: the next line goes on from it
   }
   motion::Planner planner(lim, 256);
-  std::size_t k = 0;
-  for (auto _ : state) {
-    while (planner.queue().full()) planner.queue().ring().pop();
-    if (k % reqs.size() == 0) planner.queue().clear();  // start again from the first point
-    benchmark::DoNotOptimize(planner.push(reqs[k++ % reqs.size()]));
-  }
-  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()));
+  push_rounds(state, planner, reqs);
 }
 BENCHMARK(BM_PlanArcCorners)->Arg(0)->Arg(1);
 
@@ -150,14 +151,8 @@ static void BM_PlanFillets(benchmark::State& state) {
     at = end;
   }
   motion::Planner planner(lim, 256);
-  std::size_t k = 0;
-  for (auto _ : state) {
-    while (planner.queue().full()) planner.queue().ring().pop();
-    if (k % reqs.size() == 0) planner.queue().clear();  // start again from the first point
-    benchmark::DoNotOptimize(planner.push(reqs[k++ % reqs.size()]));
-  }
-  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()));
-  state.counters["curves_per_push"] = static_cast<double>(planner.curves_tried()) / static_cast<double>(k);
+  const std::size_t pushes = push_rounds(state, planner, reqs);
+  state.counters["curves_per_push"] = static_cast<double>(planner.curves_tried()) / static_cast<double>(pushes);
 }
 BENCHMARK(BM_PlanFillets)->Iterations(2560);  // fixed: callgrind counts compare (Planner::push ÷ 2560)
 

@@ -274,6 +274,38 @@ TEST(PolylineSmoothing, PiecesThatBendAtOneEndAreSplit) {
 }  // namespace softmc::motion
 
 namespace softmc::motion {
+// The smoothing as the Channel sets it for P0.1 (3D_Chips's G64 P.1).
+PolylineSmoothing chips_smoothing() {
+  PolylineSmoothing c;
+  c.tolerance_mm = 0.09;
+  c.max_turn_rad = 20 * std::numbers::pi / 180;
+  return c;
+}
+// Programmed points from their x, y, z.
+template <std::size_t N>
+std::vector<Vec> points(const double (&xyz)[N][3]) {
+  std::vector<Vec> pts;
+  for (const auto& p : xyz) {
+    Vec v;
+    for (int i = 0; i < 3; ++i) v[i] = p[i];
+    pts.push_back(v);
+  }
+  return pts;
+}
+std::vector<std::vector<Segment>> smoothed(const std::vector<Vec>& pts, const PolylineSmoothing& c) {
+  std::vector<std::vector<Segment>> lines;
+  smooth_polyline(pts, c, lines);
+  return lines;
+}
+// The largest f over the curved (Poly) pieces.
+template <class F>
+double poly_max(const std::vector<std::vector<Segment>>& lines, const F& f) {
+  double m = 0;
+  for (const auto& s : flatten(lines))
+    if (s.kind == SegmentKind::Poly) m = std::max(m, f(s));
+  return m;
+}
+
 // 3D_Chips.ngc N9421–N9771 (X−4.5 … −7, Y−42 … −54 … −36): down a wall to the floor, round a
 // corner of the floor, along it for 8 mm, then 0.008 mm nearly on, and up the next wall. A uniform
 // B-spline bends where its legs change length: through the 8 mm and 0.008 mm legs it had a cusp-like
@@ -291,26 +323,12 @@ TEST(PolylineSmoothing, UnevenLegsDoNotMakeCurvatureSpikes) {
                            {-7, -47.977, -30.5},     {-7, -39.946, -30.5},     {-7, -39.938, -30.498},   {-7, -39.852, -30.14},
                            {-7, -39.727, -29.698},   {-7, -38.977, -28.078},   {-7, -38.477, -27.411},   {-7, -37.977, -26.9},
                            {-7, -37.477, -26.43},    {-7, -37.227, -26.212},   {-7, -36.977, -26.028},   {-7, -36.477, -25.729}};
-  std::vector<Vec> pts;
-  for (const auto& p : xyz) {
-    Vec v;
-    for (int i = 0; i < 3; ++i) v[i] = p[i];
-    pts.push_back(v);
-  }
-  PolylineSmoothing even;  // as the Channel sets it for P0.1 (3D_Chips's G64 P.1)
-  even.tolerance_mm = 0.09;
-  even.max_turn_rad = 20 * std::numbers::pi / 180;
+  const std::vector<Vec> pts = points(xyz);
+  const PolylineSmoothing even = chips_smoothing();
   PolylineSmoothing uneven = even;
   uneven.max_leg_ratio = 0;
-  std::vector<std::vector<Segment>> le, lu;
-  smooth_polyline(pts, even, le);
-  smooth_polyline(pts, uneven, lu);
-  const auto kmax = [](const std::vector<std::vector<Segment>>& lines) {
-    double k = 0;
-    for (const auto& s : flatten(lines))
-      if (s.kind == SegmentKind::Poly) k = std::max(k, s.max_curvature());
-    return k;
-  };
+  const auto le = smoothed(pts, even), lu = smoothed(pts, uneven);
+  const auto kmax = [](const auto& lines) { return poly_max(lines, [](const Segment& s) { return s.max_curvature(); }); };
   ASSERT_FALSE(le[24].empty());  // the 8 mm line is smoothed, not kept
   EXPECT_GT(kmax(lu), 100.0);    // the spike this is about
   EXPECT_LT(kmax(le), 2.0);
@@ -326,34 +344,16 @@ TEST(PolylineSmoothing, UnevenLegsDoNotMakeCurvatureSpikes) {
 // to 0.0004 mm/s in it (38 such near-stops on 3D_Chips). Moved within half of P, the curve stays
 // within P of the program and bends gently there.
 TEST(PolylineSmoothing, APassEndFarOffTheChordIsEvenedWithinHalfOfP) {
-  const double ys[] = {25.109, 32.109, 44.109, 53};
-  const double xy[][2] = {{52.972, 53.293}, {52.893, 53.547}, {52.769, 53.762}, {52.609, 53.937},
-                          {52.42, 54.074},  {52.209, 54.172}, {51.983, 54.23}};
-  std::vector<Vec> pts;
-  for (double y : ys) {
-    Vec v;
-    v[0] = 53, v[1] = y, v[2] = -30.5;
-    pts.push_back(v);
-  }
-  for (const auto& p : xy) {
-    Vec v;
-    v[0] = p[0], v[1] = p[1], v[2] = -30.5;
-    pts.push_back(v);
-  }
-  PolylineSmoothing half;  // as the Channel sets it for P0.1
-  half.tolerance_mm = 0.09;
-  half.max_turn_rad = 20 * std::numbers::pi / 180;
+  const double xyz[][3] = {{53, 25.109, -30.5},     {53, 32.109, -30.5},     {53, 44.109, -30.5},
+                           {53, 53, -30.5},         {52.972, 53.293, -30.5}, {52.893, 53.547, -30.5},
+                           {52.769, 53.762, -30.5}, {52.609, 53.937, -30.5}, {52.42, 54.074, -30.5},
+                           {52.209, 54.172, -30.5}, {51.983, 54.23, -30.5}};
+  const std::vector<Vec> pts = points(xyz);
+  const PolylineSmoothing half = chips_smoothing();
   PolylineSmoothing tenth = half;
   tenth.max_leg_shift = 0.1;
-  std::vector<std::vector<Segment>> lh, lt;
-  smooth_polyline(pts, half, lh);
-  smooth_polyline(pts, tenth, lt);
-  const auto dk_max = [](const std::vector<std::vector<Segment>>& lines) {
-    double dk = 0;
-    for (const auto& s : flatten(lines))
-      if (s.kind == SegmentKind::Poly) dk = std::max(dk, s.poly.jerk_speed_term());
-    return dk;
-  };
+  const auto lh = smoothed(pts, half), lt = smoothed(pts, tenth);
+  const auto dk_max = [](const auto& lines) { return poly_max(lines, [](const Segment& s) { return s.poly.jerk_speed_term(); }); };
   EXPECT_GT(dk_max(lt), 50.0);  // the bend this is about (74/mm²)
   EXPECT_LT(dk_max(lh), 20.0);  // where the runs start and end (the curvature rises from 0): 10/mm²
   for (const auto& s : flatten(lh))
