@@ -517,7 +517,8 @@ TEST(Run, ANearCuspRunsAtTheCurvatureOfEachPieceOfIt) {
 // A G5 with two near cusps 0.06 mm apart (a review's; GeometryBezier.T2_APieceIsGradedOnItsJerkTermToo):
 // graded on κ alone, its 0.1 mm pieces crawled at the jerk cap of their sharp ends (0.07–0.17 mm/s),
 // 3.08 s for the rapid and 0.244 mm of curve on the built-in table (2.5 s of it on the curve).
-// Graded on √|dκ/ds| as well: 0.82 s, every limit kept, on the curve (G61), its length exact to 1e-9.
+// Graded on √|dκ/ds| as well: 0.78 s, every limit kept, on the curve (G61), its length within 3e-9
+// (the nanometre pieces at its tips lose that much: GeometryBezier.T2_APieceIsGradedOnItsJerkTermToo).
 TEST(Run, ANearCuspWithTwoTipsRunsAtTheJerkCapOfEachPiece) {
   const auto cfg = machine::default_machine();
   const auto r = run_source("G21 G90 G17\nG0 X100.04448776445652 Y100.07219332582257\nG61\nF1200\n"
@@ -526,7 +527,34 @@ TEST(Run, ANearCuspWithTwoTipsRunsAtTheJerkCapOfEachPiece) {
                             "two_tips.ngc", cfg);
   expect_within_limits(r.sum, cfg, 1e-6);
   EXPECT_LT(r.sum.cycle_time_s, 1.2);
-  EXPECT_NEAR(r.sum.feed_mm / 0.24443152118297081 - 1, 0, 1e-9);
+  EXPECT_NEAR(r.sum.feed_mm / 0.24443152118297081 - 1, 0, 3e-9);  // 2.2e-8 before
+}
+
+// The review's G5.2 of docs/planner.md doubling back on itself twice, from where the machine stands
+// (its first control point doubled: the curve starts standing still). Graded on the jerk term with
+// the grading asking the end's sharpness against the middle's only, and down to pieces of 1e-9 mm,
+// it runs 0.91 s (2.86 s graded on κ; it did not finish in 600 s of wall time while the grading also
+// asked the end to be 0.9 of the sampled peak, which a secant at the tip never reached; a review's).
+TEST(Run, ANurbsDoublingBackTwiceFromRestRunsAtItsPiecesCaps) {
+  const auto cfg = machine::default_machine();
+  const auto r = run_source("G21 G90 G17\nG0 X50.092563 Y49.847194\nG61\nF6000\n"
+                            "G5.2 X50.092563 Y49.847194 P1 L4\nX50.438131 Y49.052842 P1\nX50.092572 Y49.847187 P3\n"
+                            "X50.438135 Y49.052848 P3\nX50.092571 Y49.847192 P1\nX50.438128 Y49.052847 P1\nG5.3\nM2\n",
+                            "twice_back.ngc", cfg);
+  expect_within_limits(r.sum, cfg, 1e-6);
+  EXPECT_LT(r.sum.cycle_time_s, 2.0);
+}
+
+// A G5.2 doubling back along X whose Y moves by less than a nanometre (a review's): Y counts as not
+// moving (collapsed onto its start). Kept at its end values, its nanometre of shape next to the
+// cusp gave jerk terms of 10¹³/mm² and the run took 286 s instead of 3.28.
+TEST(Run, ANurbsWhoseOtherAxisMovesLessThanANanometreIsNotSlowedByIt) {
+  const auto cfg = machine::default_machine();
+  const auto r = run_source("G21 G90 G17 G94\nG64 P0.5\nG0 X264 Y200 Z46\nG5.2 X264 Y200 P1 L3 F1200\n"
+                            "X288 Y200.0000000005 P3\nX266 Y200.0000000009 P1\nG5.3\nM2\n",
+                            "flat_y.ngc", cfg);
+  expect_within_limits(r.sum, cfg, 0.5);
+  EXPECT_LT(r.sum.cycle_time_s, 4.0);
 }
 
 // 3D_Chips.ngc's first floor pass (N390–N490, Z moved up by 40.5 mm into this table's travel) on the

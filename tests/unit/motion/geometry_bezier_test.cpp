@@ -187,9 +187,9 @@ TEST(GeometryBezier, T2_CuspIsHalvedAndStillMeasuredExactly) {
   double total = 0;
   for (std::size_t i = 0; i < out.size(); ++i) {
     total += out[i].length;
-    if (i > 0) {
-      EXPECT_EQ(out[i - 1].end, out[i].start);
-    }
+    // Pieces graded down to a nanometre next to the cusp have an axis flat within a nanometre,
+    // collapsed onto its start (build): the next piece starts within that of this one's end.
+    if (i > 0) EXPECT_LE(core::distance(out[i - 1].end, out[i].start), 1e-9) << i;
   }
   const double ref = simpson([&](double u) { return cubic_speed(p, u); }, 0, 5.0 / 7) +
                      simpson([&](double u) { return cubic_speed(p, u); }, 5.0 / 7, 1);
@@ -519,9 +519,10 @@ TEST(GeometryBezier, T2_APieceSharpAtOneEndIsGradedTowardsIt) {
 // |C'| down to 3.3e-8 there. Grading on κ alone left 0.1 mm pieces whose |dκ/ds| peaked at their
 // ends (3.3·10⁷/mm²): at 10 000 mm/s³ those pieces' jerk caps (j/|dκ/ds|)^⅓ made the curve 3.3 s
 // long (Σ length / cap). Graded on the sharpness √|dκ/ds| as well: 0.14 s. The
-// pieces meet exactly (a nanometre tip is the straight piece between its ends: build's flattening
-// onto the first point had left gaps), and their lengths add up to the curve's to 1e-9 (the
-// reference: mpmath at 50 digits, split at the two speed minima).
+// pieces meet within a nanometre (an axis flat within that beside moving ones is collapsed onto its
+// start by build; a piece flat on every axis is the straight piece between its ends), and their
+// lengths add up to the curve's within 3e-9 (2.2e-8 before; the reference: mpmath at 50 digits,
+// split at the two speed minima).
 TEST(GeometryBezier, T2_APieceIsGradedOnItsJerkTermToo) {
   const core::Vec p0 = xy(100.04448776445652, 100.07219332582257), p3 = xy(99.950378222369238, 99.906515631366091);
   const core::Vec p[4] = {p0, p0 + xy(-0.13175071874582045, -0.23194520248019046),
@@ -533,27 +534,28 @@ TEST(GeometryBezier, T2_APieceIsGradedOnItsJerkTermToo) {
   for (std::size_t i = 0; i < out.size(); ++i) {
     length += out[i].length;
     at_caps += out[i].length * std::cbrt(out[i].poly.jerk_speed_term() / 10000);
-    if (i > 0) {
-      EXPECT_EQ(out[i - 1].end, out[i].start) << i;
-    }
+    if (i > 0) EXPECT_LE(core::distance(out[i - 1].end, out[i].start), 1e-9) << i;
   }
   EXPECT_EQ(out.front().start, p0);
   EXPECT_EQ(out.back().end, p3);
-  EXPECT_NEAR(length / 0.24443152118297081 - 1, 0, 1e-9);
+  EXPECT_NEAR(length / 0.24443152118297081 - 1, 0, 3e-9);
   EXPECT_LT(at_caps, 0.2) << out.size() << " pieces";
 }
 
 // An axis whose control points lie within a nanometre of each other counts as not moving (build):
-// it keeps its two end values (the pieces of a split curve meet exactly), and its derivative is zero
-// at both ends, so it gives no direction where the moving axes stand still.
-TEST(GeometryBezier, AnAxisFlatWithinANanometreKeepsItsEndsAndGivesNoDirection) {
+// beside axes that move, it is collapsed onto its start value, so it gives no direction and no
+// curvature where the moving axes stand still (a review's G5.2 along X with Y moving 9e-10: 3.28 s;
+// kept at its end values, its nanometre of shape made 286 s of it); the piece ends within that
+// nanometre of its last control point. A piece flat on every axis is the straight piece between its
+// own ends (collapsed onto its start, it left a gap to the next piece).
+TEST(GeometryBezier, AnAxisFlatWithinANanometreGivesNoDirection) {
   const core::Vec c[4] = {xy(0, 0, 1), xy(0, 1, 1 + 3e-10), xy(0, 1, 1 - 2e-10), xy(2, 1, 1 + 6e-10)};
   const Segment s = make_bezier(c).segment;
   EXPECT_EQ(s.start, c[0]);
-  EXPECT_EQ(s.end, c[3]);
-  EXPECT_EQ(s.point(s.length), c[3]);
+  EXPECT_LE(core::distance(s.end, c[3]), 1e-9);
   EXPECT_EQ(s.tangent(0)[2], 0.0);
   EXPECT_EQ(s.tangent(s.length)[2], 0.0);
+  EXPECT_EQ(s.curvature(s.length / 2)[2], 0.0);
   // Within a nanometre on every axis: the straight piece between its ends.
   const core::Vec t[4] = {xy(0, 0), xy(4e-10, 7e-10), xy(-3e-10, 2e-10), xy(6e-10, 3e-10)};
   const Segment tip = make_bezier(t).segment;
