@@ -464,6 +464,14 @@ SourceRun run_within_limits(const std::array<std::array<double, 3>, 3>& vaj, con
   expect_within_limits(r.sum, cfg, p_mm);
   return r;
 }
+// `text` on the built-in table: every limit and P kept, and done within max_time_s of virtual time.
+SourceRun run_on_table_within(const std::string& text, const std::string& name, double p_mm, double max_time_s) {
+  const auto cfg = machine::default_machine();
+  auto r = run_source(text, name, cfg);
+  expect_within_limits(r.sum, cfg, p_mm);
+  EXPECT_LT(r.sum.cycle_time_s, max_time_s) << name;
+  return r;
+}
 }  // namespace
 
 // A machine with a jerk limit on X and Z but none on Y (a fuzzer's): the blend at a 4.5° corner
@@ -506,12 +514,9 @@ TEST(Run, AJerkBlockHandsOverAtTheCrossingOfACycleWithTwoJerkPhases) {
 // the sharp point, each piece runs at about its own curvature: 1.03 s, every limit kept, exact on
 // the curve (G61).
 TEST(Run, ANearCuspRunsAtTheCurvatureOfEachPieceOfIt) {
-  const auto cfg = machine::default_machine();
-  const auto r = run_source("G21 G90 G17\nG0 X34.4985 Y81.5772\nG61\nF1200\n"
-                            "G5 I1.175 J1.132 P-0.416 Q1.183 X33.6178 Y79.3326\nM2\n",
-                            "near_cusp.ngc", cfg);
-  expect_within_limits(r.sum, cfg, 1e-6);
-  EXPECT_LT(r.sum.cycle_time_s, 2.0);
+  run_on_table_within("G21 G90 G17\nG0 X34.4985 Y81.5772\nG61\nF1200\n"
+                      "G5 I1.175 J1.132 P-0.416 Q1.183 X33.6178 Y79.3326\nM2\n",
+                      "near_cusp.ngc", 1e-6, 2.0);
 }
 
 // A G5 with two near cusps 0.06 mm apart (a review's; GeometryBezier.T2_APieceIsGradedOnItsJerkTermToo):
@@ -520,13 +525,10 @@ TEST(Run, ANearCuspRunsAtTheCurvatureOfEachPieceOfIt) {
 // Graded on √|dκ/ds| as well: 0.78 s, every limit kept, on the curve (G61), its length within 3e-9
 // (the nanometre pieces at its tips lose that much: GeometryBezier.T2_APieceIsGradedOnItsJerkTermToo).
 TEST(Run, ANearCuspWithTwoTipsRunsAtTheJerkCapOfEachPiece) {
-  const auto cfg = machine::default_machine();
-  const auto r = run_source("G21 G90 G17\nG0 X100.04448776445652 Y100.07219332582257\nG61\nF1200\n"
-                            "G5 I-0.13175071874582045 J-0.23194520248019046 P0.13175335892219664 "
-                            "Q0.23194877223906474 X99.950378222369238 Y99.906515631366091\nM2\n",
-                            "two_tips.ngc", cfg);
-  expect_within_limits(r.sum, cfg, 1e-6);
-  EXPECT_LT(r.sum.cycle_time_s, 1.2);
+  const auto r = run_on_table_within("G21 G90 G17\nG0 X100.04448776445652 Y100.07219332582257\nG61\nF1200\n"
+                                     "G5 I-0.13175071874582045 J-0.23194520248019046 P0.13175335892219664 "
+                                     "Q0.23194877223906474 X99.950378222369238 Y99.906515631366091\nM2\n",
+                                     "two_tips.ngc", 1e-6, 1.2);
   EXPECT_NEAR(r.sum.feed_mm / 0.24443152118297081 - 1, 0, 3e-9);  // 2.2e-8 before
 }
 
@@ -536,25 +538,19 @@ TEST(Run, ANearCuspWithTwoTipsRunsAtTheJerkCapOfEachPiece) {
 // it runs 0.91 s (2.86 s graded on κ; it did not finish in 600 s of wall time while the grading also
 // asked the end to be 0.9 of the sampled peak, which a secant at the tip never reached; a review's).
 TEST(Run, ANurbsDoublingBackTwiceFromRestRunsAtItsPiecesCaps) {
-  const auto cfg = machine::default_machine();
-  const auto r = run_source("G21 G90 G17\nG0 X50.092563 Y49.847194\nG61\nF6000\n"
-                            "G5.2 X50.092563 Y49.847194 P1 L4\nX50.438131 Y49.052842 P1\nX50.092572 Y49.847187 P3\n"
-                            "X50.438135 Y49.052848 P3\nX50.092571 Y49.847192 P1\nX50.438128 Y49.052847 P1\nG5.3\nM2\n",
-                            "twice_back.ngc", cfg);
-  expect_within_limits(r.sum, cfg, 1e-6);
-  EXPECT_LT(r.sum.cycle_time_s, 2.0);
+  run_on_table_within("G21 G90 G17\nG0 X50.092563 Y49.847194\nG61\nF6000\n"
+                      "G5.2 X50.092563 Y49.847194 P1 L4\nX50.438131 Y49.052842 P1\nX50.092572 Y49.847187 P3\n"
+                      "X50.438135 Y49.052848 P3\nX50.092571 Y49.847192 P1\nX50.438128 Y49.052847 P1\nG5.3\nM2\n",
+                      "twice_back.ngc", 1e-6, 2.0);
 }
 
 // A G5.2 doubling back along X whose Y moves by less than a nanometre (a review's): Y counts as not
 // moving (collapsed onto its start). Kept at its end values, its nanometre of shape next to the
 // cusp gave jerk terms of 10¹³/mm² and the run took 286 s instead of 3.28.
 TEST(Run, ANurbsWhoseOtherAxisMovesLessThanANanometreIsNotSlowedByIt) {
-  const auto cfg = machine::default_machine();
-  const auto r = run_source("G21 G90 G17 G94\nG64 P0.5\nG0 X264 Y200 Z46\nG5.2 X264 Y200 P1 L3 F1200\n"
-                            "X288 Y200.0000000005 P3\nX266 Y200.0000000009 P1\nG5.3\nM2\n",
-                            "flat_y.ngc", cfg);
-  expect_within_limits(r.sum, cfg, 0.5);
-  EXPECT_LT(r.sum.cycle_time_s, 4.0);
+  run_on_table_within("G21 G90 G17 G94\nG64 P0.5\nG0 X264 Y200 Z46\nG5.2 X264 Y200 P1 L3 F1200\n"
+                      "X288 Y200.0000000005 P3\nX266 Y200.0000000009 P1\nG5.3\nM2\n",
+                      "flat_y.ngc", 0.5, 4.0);
 }
 
 // 3D_Chips.ngc's first floor pass (N390–N490, Z moved up by 40.5 mm into this table's travel) on the
