@@ -69,9 +69,10 @@ SegmentResult build(std::span<const Vec> ctrl, std::span<const double> weights, 
   const std::size_t n = ctrl.size() - 1;
   for (std::size_t a = 0; a < core::kMaxAxes; ++a) {
     if (!flat[a]) continue;
-    for (std::size_t i = 1; i <= n; ++i)
-      p[i][a] = all_flat ? (i == n ? p[n][a] : p[0][a] + (p[n][a] - p[0][a]) * (static_cast<double>(i) / static_cast<double>(n)))
-                         : p[0][a];
+    if (all_flat)  // the ends kept, the inner points evenly between them
+      for (std::size_t i = 1; i < n; ++i) p[i][a] = p[0][a] + (p[n][a] - p[0][a]) * (static_cast<double>(i) / static_cast<double>(n));
+    else
+      for (std::size_t i = 1; i <= n; ++i) p[i][a] = p[0][a];
   }
   Segment& s = r.segment;
   s.kind = SegmentKind::Poly;
@@ -204,7 +205,9 @@ CurveError append_piece(std::vector<Segment>& out, std::span<const Vec> ctrl, st
   constexpr double kPaySplitMin_mm = 0.25;   // ... down to pieces twice this long
   constexpr int kMaxGrades = 40;             // splits of a sharp end at most (grade_param), counted
                                              // apart from `depth` (the cusp and table splits') ...
-  constexpr double kGradeMin_mm = 1e-9;      // ... of pieces longer than this
+  constexpr double kGradeMin_mm = 1e-9;      // ... of pieces longer than this (at a stationary end
+                                             // |dκ/ds| grows like 1/√s: 1e-6 left a 38 nm piece
+                                             // there crawling for 15 s)
   // A length table is accurate enough within kTableTolerance of the length or within this (a
   // thousandth of a nanometre, near the rounding of coordinates of a few hundred mm): the tip of a
   // near cusp, whose speed nearly stops, was halved down to pieces of 1e-14 mm for a relative
