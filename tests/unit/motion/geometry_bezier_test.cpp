@@ -518,7 +518,7 @@ TEST(GeometryBezier, T2_APieceSharpAtOneEndIsGradedTowardsIt) {
 // A G5 whose control polygon nearly doubles back twice (a review's): two near cusps 0.06 mm apart,
 // |C'| down to 3.3e-8 there. Grading on κ alone left 0.1 mm pieces whose |dκ/ds| peaked at their
 // ends (3.3·10⁷/mm²): at 10 000 mm/s³ those pieces' jerk caps (j/|dκ/ds|)^⅓ made the curve 3.3 s
-// long (Σ length / cap). Graded on the sharpness √|dκ/ds| as well: 0.14 s. The
+// long (Σ length / cap). Graded on the sharpness √|dκ/ds| as well: 0.07 s. The
 // pieces meet within a nanometre (an axis flat within that beside moving ones is collapsed onto its
 // start by build; a piece flat on every axis is the straight piece between its ends), and their
 // lengths add up to the curve's within 3e-9 (2.2e-8 before; the reference: mpmath at 50 digits,
