@@ -544,6 +544,19 @@ TEST(Run, ANurbsDoublingBackTwiceFromRestRunsAtItsPiecesCaps) {
                       "twice_back.ngc", 1e-6, 2.0);
 }
 
+// A G5 going out 9.5 mm and back through a turn of about 0.05 mm in its middle (generated near
+// cusps, stop 26; |C'| stays above the thousandth of the length that makes a cusp): its sharpness
+// peaks inside the curve and not at an end, so neither the halving nor the grading split it, and all
+// its 19.3 mm ran at the turn's cap, 0.87 mm/s: 21.6 s at F300. Split at its sharpest point
+// (peak_param) and graded towards it from both sides: 4.44 s, about its feed (3.9 s of curve at
+// 5 mm/s plus the rapid), every limit kept, on the curve (G61).
+TEST(Run, AG5ThatTurnsTightlyInsideRunsNearItsFeed) {
+  run_on_table_within("G21 G90 G17\nG0 X40.314852235 Y32.323516564\nG61\nF300\n"
+                      "G5 I2.697093663946 J13.647017499335 P2.029999036627 Q10.271587062643 X41.017585029834 "
+                      "Y33.745818930874\nG1 X42.017585 Y33.745819\nM2\n",
+                      "tight_inside.ngc", 1e-6, 5.0);
+}
+
 // A G5.2 doubling back along X whose Y moves by less than a nanometre (a review's): Y counts as not
 // moving (collapsed onto its start). Kept at its end values, its nanometre of shape next to the
 // cusp gave jerk terms of 10¹³/mm² and the run took 286 s instead of 3.28.
