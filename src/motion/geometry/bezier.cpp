@@ -5,6 +5,8 @@
 #include <array>
 #include <cmath>
 
+#include "motion/geometry/golden.hpp"
+
 namespace softmc::motion {
 
 const char* to_string(CurveError e) {
@@ -175,18 +177,8 @@ double peak_param(const PolyCurve& c, double length) {
   }
   const double ends = std::max(sharpness_at(c, 0), sharpness_at(c, 1));
   if (!(best > 16 * ends && best * length > 2)) return -1.0;
-  constexpr double kG = 0.6180339887498949;
-  double lo = u_best - 1.0 / kSamples, hi = u_best + 1.0 / kSamples;
-  double m1 = hi - kG * (hi - lo), m2 = lo + kG * (hi - lo);
-  double f1 = sharpness_at(c, m1), f2 = sharpness_at(c, m2);
-  for (int it = 0; it < 40; ++it) {
-    if (f1 > f2) {
-      hi = m2, m2 = m1, f2 = f1, m1 = hi - kG * (hi - lo), f1 = sharpness_at(c, m1);
-    } else {
-      lo = m1, m1 = m2, f1 = f2, m2 = lo + kG * (hi - lo), f2 = sharpness_at(c, m2);
-    }
-  }
-  const double u = 0.5 * (lo + hi);
+  const double u = golden_max([&](double v) { return sharpness_at(c, v); }, u_best - 1.0 / kSamples,
+                               u_best + 1.0 / kSamples, 40).u;
   return u > 1e-9 && u < 1 - 1e-9 ? u : -1.0;
 }
 

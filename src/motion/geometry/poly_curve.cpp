@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "motion/geometry/bernstein_range.hpp"
+#include "motion/geometry/golden.hpp"
 
 namespace softmc::motion {
 
@@ -649,21 +650,12 @@ double PolyCurve::distance_to(const Vec& p, double enough) const {
       // cusp): the distance there was that of the stationary point itself, and a setpoint 2.7e-6 mm
       // along a G5.2 that starts so was reported 2.5e-6 mm off it. A golden-section search over the
       // sample's neighbourhood instead (the distance is unimodal that near).
-      double lo = std::max(0.0, (i - 1.0) / kSamples), hi = std::min(1.0, (i + 1.0) / kSamples);
-      constexpr double kG = 0.6180339887498949;
-      const auto dist2 = [&](double v) {
+      const double lo = std::max(0.0, (i - 1.0) / kSamples), hi = std::min(1.0, (i + 1.0) / kSamples);
+      const auto minus_dist2 = [&](double v) {
         const Vec e = at(v) - p;
-        return core::dot(e, e);
+        return -core::dot(e, e);
       };
-      double m1 = hi - kG * (hi - lo), m2 = lo + kG * (hi - lo), e1 = dist2(m1), e2 = dist2(m2);
-      for (int it = 0; it < 80 && hi - lo > 1e-16; ++it) {
-        if (e1 < e2) {
-          hi = m2, m2 = m1, e2 = e1, m1 = hi - kG * (hi - lo), e1 = dist2(m1);
-        } else {
-          lo = m1, m1 = m2, e1 = e2, m2 = lo + kG * (hi - lo), e2 = dist2(m2);
-        }
-      }
-      best = std::min(best, std::sqrt(std::min(e1, e2)));
+      best = std::min(best, std::sqrt(-golden_max(minus_dist2, lo, hi, 80, 1e-16).f));
     }
     if (best <= enough) return best;
   }
