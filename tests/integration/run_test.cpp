@@ -548,7 +548,7 @@ TEST(Run, ANurbsDoublingBackTwiceFromRestRunsAtItsPiecesCaps) {
 // cusps, stop 26; |C'| stays above the thousandth of the length that makes a cusp): its sharpness
 // peaks inside the curve and not at an end, so neither the halving nor the grading split it, and all
 // its 19.3 mm ran at the turn's cap, 0.87 mm/s: 21.6 s at F300. Split at its sharpest point
-// (peak_param) and graded towards it from both sides: 4.44 s, about its feed (3.9 s of curve at
+// (grade_param) and graded towards it from both sides: 4.44 s, about its feed (3.9 s of curve at
 // 5 mm/s plus the rapid), every limit kept, on the curve (G61).
 TEST(Run, AG5ThatTurnsTightlyInsideRunsNearItsFeed) {
   run_on_table_within("G21 G90 G17\nG0 X40.314852235 Y32.323516564\nG61\nF300\n"

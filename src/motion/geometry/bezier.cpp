@@ -148,37 +148,35 @@ double sharpness_at(const PolyCurve& c, double u) {
 // F1200). Split at the u where the sharpness (sharpness_at) has fallen to a quarter of the end's,
 // the end piece short and the rest graded again: each piece's cap then rises away from the sharp
 // end, and the path takes each at about its own curvature. Only where the end is far sharper than
-// the piece's middle (16×) and than half its length (a radius under twice the length); −1 where not.
+// the piece's middle (16×) and than half its length (a radius under twice the length).
+//
+// Else, where the sharpness peaks inside the piece, far above both ends (16×) and above half its
+// length (a near cusp that cusp_param leaves whole: |C'| above a thousandth of the length): at the
+// sharpest of 63 samples, refined by golden sections between its neighbours. Split there, the
+// sharp point is an end of both halves, which are then graded towards it: a fuzzed G5 going out
+// 9.5 mm and back through a turn of 0.05 mm ran all its 19.3 mm at that turn's cap (0.87 mm/s,
+// 21.6 s at F300). −1 where neither applies.
 double grade_param(const PolyCurve& c, double length) {
   const double k0 = sharpness_at(c, 0), k1 = sharpness_at(c, 1), km = sharpness_at(c, 0.5);
   const double ke = std::max(k0, k1);
-  if (!(ke > 16 * km && ke * length > 2)) return -1.0;
-  double lo = k0 >= k1 ? 0.0 : 1.0, hi = 0.5;  // sharpness(lo) ≥ ke/4 > sharpness(hi)
-  for (int it = 0; it < 60 && std::abs(hi - lo) > 1e-15; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    (sharpness_at(c, mid) >= 0.25 * ke ? lo : hi) = mid;
+  if (ke > 16 * km && ke * length > 2) {
+    double lo = k0 >= k1 ? 0.0 : 1.0, hi = 0.5;  // sharpness(lo) ≥ ke/4 > sharpness(hi)
+    for (int it = 0; it < 60 && std::abs(hi - lo) > 1e-15; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (sharpness_at(c, mid) >= 0.25 * ke ? lo : hi) = mid;
+    }
+    const double u = 0.5 * (lo + hi);
+    if (u > 1e-12 && u < 1 - 1e-12) return u;
   }
-  const double u = 0.5 * (lo + hi);
-  return u > 1e-12 && u < 1 - 1e-12 ? u : -1.0;
-}
-
-// Where to split a piece whose sharpness peaks inside it, far above both ends (16×) and above half
-// its length (a near cusp that cusp_param leaves whole: |C'| above a thousandth of the length): the
-// sharpest of 63 samples, refined by golden sections between its neighbours; −1 where there is none.
-// Split there, the sharp point is an end of both halves, which grade_param then grades towards it:
-// a fuzzed G5 going out 9.5 mm and back through a turn of 0.05 mm ran all its 19.3 mm at that
-// turn's cap (0.87 mm/s, 21.6 s at F300).
-double peak_param(const PolyCurve& c, double length) {
   constexpr int kSamples = 64;
   double best = 0, u_best = -1;
   for (int k = 1; k < kSamples; ++k) {
     const double u = static_cast<double>(k) / kSamples, g = sharpness_at(c, u);
     if (g > best) best = g, u_best = u;
   }
-  const double ends = std::max(sharpness_at(c, 0), sharpness_at(c, 1));
-  if (!(best > 16 * ends && best * length > 2)) return -1.0;
+  if (!(best > 16 * ke && best * length > 2)) return -1.0;
   const double u = golden_max([&](double v) { return sharpness_at(c, v); }, u_best - 1.0 / kSamples,
-                               u_best + 1.0 / kSamples, 40).u;
+                              u_best + 1.0 / kSamples, 40).u;
   return u > 1e-9 && u < 1 - 1e-9 ? u : -1.0;
 }
 
@@ -255,9 +253,8 @@ CurveError append_piece(std::vector<Segment>& out, std::span<const Vec> ctrl, st
       halve = left.ok() && right.ok() && split_pays(r.segment, left.segment, right.segment);
     }
     if (!halve) {
-      double g = grades < kMaxGrades && r.segment.length > kGradeMin_mm
-                     ? grade_param(r.segment.poly, r.segment.length) : -1.0;
-      if (g < 0 && grades < kMaxGrades && r.segment.length > kGradeMin_mm) g = peak_param(r.segment.poly, r.segment.length);
+      const double g = grades < kMaxGrades && r.segment.length > kGradeMin_mm
+                           ? grade_param(r.segment.poly, r.segment.length) : -1.0;
       if (g < 0) {
         out.push_back(r.segment);
         return CurveError::Ok;
