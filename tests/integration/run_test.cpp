@@ -570,9 +570,10 @@ TEST(Run, ANurbsWhoseOtherAxisMovesLessThanANanometreIsNotSlowedByIt) {
 // comparison machine (100 mm/s, 1000 mm/s², 10 000 mm/s³, P0.1): an 8.9 mm leg along the floor, then
 // 0.3 mm legs turning up the wall. The point between them lay 0.027 mm off its neighbours' chord, more
 // than the tenth of P the smoothing moved such points by: the spline bent sharply there, and the path
-// came to 0.0004 mm/s in the bend (38 such near-stops on the whole program). Moved within half of P:
-// never below 1 mm/s there, every limit and P kept
-// (PolylineSmoothing.APassEndFarOffTheChordIsEvenedWithinHalfOfP).
+// came to 0.0004 mm/s in the bend (38 such near-stops on the whole program). Moved within half of P
+// (stop 26), and since stop 27 filtered as far as P allows point by point instead
+// (PolylineSmoothing.EachPointIsFilteredAsMuchAsTheToleranceAllows): never below 1 mm/s there,
+// every limit and P kept.
 TEST(Run, APassEndOfASmoothedRunIsNotANearStop) {
   const auto r = run_within_limits({{{100, 1000, 10000}, {100, 1000, 10000}, {100, 1000, 10000}}},
                                    "G21 G90 G17\nG64 P0.1\nG0 X53 Y20 Z10\nF6000\nG1 Y25.109\nY32.109\nY44.109\nY53\n"

@@ -84,34 +84,36 @@ void append_piece(std::vector<Segment>& out, const std::array<Vec, 4>& c, const 
   append_piece(out, rc, cfg, depth + 1, &right);
 }
 
-// The run of lines [a, b) of pts as B-spline pieces: true and `lines` filled when every piece stays
-// within the tolerance; otherwise false with `bad` = the line whose piece leaves it.
-bool build_run(std::span<const Vec> pts, std::size_t a, std::size_t b, int passes, const PolylineSmoothing& cfg,
-               std::vector<std::vector<Segment>>& lines, std::size_t& bad) {
-  // The run's points, low-pass filtered (`passes` times [1 2 1]/4, ends fixed): CAM points carry the
-  // rounding of their last printed digit, and a curve through them carries it into its curvature
-  // (a 0.5 µm error at 0.25 mm spacing is a curvature of 0.03/mm, and a jerk of v³·dκ/ds).
+// The run's points for control points: `tiers[t]` receives pts[a .. b] low-pass filtered 0, 1, 2,
+// 4, … filter_passes times ([1 2 1]/4, ends fixed). CAM points carry the rounding of their last
+// printed digit, and a curve through them carries it into its curvature (a 0.5 µm error at 0.25 mm
+// spacing is a curvature of 0.03/mm, and a jerk of v³·dκ/ds); filtering also evens out where legs
+// change length, where a uniform B-spline bends (3D_Chips.ngc runs 8 mm along its floor, then
+// 0.008 mm: a curvature spike of 909/mm through the unfiltered points).
+void filter_tiers(std::span<const Vec> pts, std::size_t a, std::size_t b, const PolylineSmoothing& cfg,
+                  std::vector<std::vector<Vec>>& tiers) {
   std::vector<Vec> c(pts.begin() + static_cast<std::ptrdiff_t>(a), pts.begin() + static_cast<std::ptrdiff_t>(b) + 1);
-  // A uniform B-spline bends where its control legs change length: a point between a long line and
-  // a far shorter one (CAM output: 8 mm, then 0.008 mm) puts a cusp-like curvature spike there
-  // (κ ≈ 900/mm on 3D_Chips.ngc, a speed cap of 0.06 mm/s). Where such a point lies near the chord
-  // of its neighbours (within max_leg_shift of P: half of it since stop 26, a tenth before, which
-  // left 3D_Chips's pass ends 0.027 mm off at P 0.09 with a piece capped at 4 mm/s that the path
-  // nearly stopped in), it moves along that chord to its middle: the legs are even, the curve moves
-  // by no more than that (the pieces are still checked against the program within P).
-  for (std::size_t k = 1; k + 1 < c.size(); ++k) {
-    const double lin = core::distance(c[k - 1], c[k]), lout = core::distance(c[k], c[k + 1]);
-    if (std::min(lin, lout) < cfg.max_leg_ratio * std::max(lin, lout) &&
-        distance_to_chord(c[k], c[k - 1], c[k + 1]) <= cfg.max_leg_shift * cfg.tolerance_mm)
-      c[k] = (c[k - 1] + c[k + 1]) * 0.5;
-  }
+  tiers.assign(1, c);
   std::vector<Vec> next(c.size());
-  for (int it = 0; it < passes; ++it) {
+  for (int it = 1, tier_end = 1; it <= cfg.filter_passes; ++it) {
     next.front() = c.front();
     next.back() = c.back();
     for (std::size_t k = 1; k + 1 < c.size(); ++k) next[k] = (c[k - 1] + c[k] * 2 + c[k + 1]) * 0.25;
     c.swap(next);
+    if (it == tier_end || it == cfg.filter_passes) {
+      tiers.push_back(c);
+      tier_end *= 2;
+    }
   }
+}
+
+// The run of lines [a, b) of pts as B-spline pieces over the control points c (pts[a .. b] as
+// filter_tiers and the weights make them): true and `lines` filled when every piece and both stubs
+// stay within the tolerance; otherwise false with `bad` = the lines whose pieces (or stubs) leave
+// it, in order.
+bool build_run(std::span<const Vec> pts, std::size_t a, std::size_t b, const std::vector<Vec>& c, const PolylineSmoothing& cfg,
+               std::vector<std::vector<Segment>>& lines, std::vector<std::size_t>& bad) {
+  bad.clear();
   // Control points: P_a twice, the filtered points, P_b twice; piece i uses q[i - a .. i - a + 3].
   std::vector<Vec> q;
   q.reserve(b - a + 3);
@@ -171,22 +173,18 @@ bool build_run(std::span<const Vec> pts, std::size_t a, std::size_t b, int passe
       const double u = 1 - t;
       return c4[0] * (u * u * u) + c4[1] * (3 * u * u * t) + c4[2] * (3 * u * t * t) + c4[3] * (t * t * t);
     };
-    if (!within(at, 32, lo, hi)) {
-      bad = i;
-      return false;
-    }
+    if (!within(at, 32, lo, hi)) bad.push_back(i);
   }
   // The stubs run from P_a towards the first filtered point, and into P_b: near the first two and
-  // last two lines (one of them where a point between uneven legs moved), checked like the pieces.
+  // last two lines, checked like the pieces.
   const Segment first = make_line(pts[a], knot.front()), last = make_line(knot.back(), pts[b]);
-  if (!within([&](double t) { return first.point(first.length * t); }, 8, a, std::min(a + 1, b - 1))) {
-    bad = a;
-    return false;
-  }
-  if (!within([&](double t) { return last.point(last.length * t); }, 8, b >= a + 2 ? b - 2 : a, b - 1)) {
-    bad = b - 1;
-    return false;
-  }
+  if (!within([&](double t) { return first.point(first.length * t); }, 8, a, std::min(a + 1, b - 1)) &&
+      (bad.empty() || bad.front() != a))
+    bad.insert(bad.begin(), a);
+  if (!within([&](double t) { return last.point(last.length * t); }, 8, b >= a + 2 ? b - 2 : a, b - 1) &&
+      (bad.empty() || bad.back() != b - 1))
+    bad.push_back(b - 1);
+  if (!bad.empty()) return false;
   lines[a].push_back(first);
   for (std::size_t i = a; i < b; ++i) {
     const auto c4 = ctrl(i - a);
@@ -199,14 +197,50 @@ bool build_run(std::span<const Vec> pts, std::size_t a, std::size_t b, int passe
 void smooth_range(std::span<const Vec> pts, std::size_t a, std::size_t b, const PolylineSmoothing& cfg,
                   std::vector<std::vector<Segment>>& lines) {
   if (b < a + 2) return;  // one line is kept as it is
-  std::size_t bad = 0;
-  // As much filtering as the tolerance allows, then none, then split where it is left.
-  for (const int passes : {cfg.filter_passes, cfg.filter_passes / 4, 0}) {
-    if (build_run(pts, a, b, passes, cfg, lines, bad)) return;
-    if (passes == 0) break;
+  // As much filtering as the tolerance allows, point by point. Each point's weight w (0 … the last
+  // tier) places it between two tiers of filter_tiers: tier ⌊w⌋ and the next, by w's fraction. All
+  // start at the most filtered tier. The control points of a piece that leaves the tolerance (the
+  // four around it) keep filter_cut of their way above the tier below (0.85: they come down by
+  // 15 %), and drop to it once within a sixteenth of a tier; a point's weight stays within
+  // filter_taper of its neighbours', so the control points pass smoothly from one tier to the next
+  // (whole tiers from point to point made curvature bumps: 3D_Chips.ngc ran slower than with the
+  // whole run filtered less). A piece that leaves the tolerance unfiltered splits the run there.
+  // Before (stop 26), the whole run came down to 2 passes, and then to none, where any piece left
+  // it: on 3D_Chips.ngc 397 of 4 546 smoothed lines kept 8 passes.
+  std::vector<std::vector<Vec>> tiers;
+  filter_tiers(pts, a, b, cfg, tiers);
+  if (tiers.size() == 1) tiers.push_back(tiers[0]);  // no filtering: two equal tiers
+  const double top = static_cast<double>(tiers.size() - 1);
+  std::vector<double> w(b - a + 1, top);
+  std::vector<Vec> c(b - a + 1);
+  std::vector<std::size_t> bad;
+  for (int round = 0;; ++round) {
+    for (std::size_t k = 0; k < c.size(); ++k) {
+      const std::size_t t = std::min(tiers.size() - 2, static_cast<std::size_t>(w[k]));
+      c[k] = tiers[t][k] + (tiers[t + 1][k] - tiers[t][k]) * (w[k] - static_cast<double>(t));
+    }
+    if (build_run(pts, a, b, c, cfg, lines, bad)) return;
+    // Past kMaxRounds (bounds the work), a piece's points go straight to their tier below.
+    constexpr int kMaxRounds = 64;
+    const double cut = round < kMaxRounds ? cfg.filter_cut : 0.0;
+    for (const std::size_t i : bad) {
+      const std::size_t j = i - a, k0 = j > 0 ? j - 1 : 0, k1 = std::min(b - a, j + 2);
+      bool lowered = false;
+      for (std::size_t k = k0; k <= k1; ++k) {
+        if (!(w[k] > 0)) continue;
+        const double below = std::ceil(w[k]) - 1, rest = (w[k] - below) * cut;
+        w[k] = rest < 1.0 / 16 ? below : below + rest;
+        lowered = true;
+      }
+      if (!lowered) {
+        smooth_range(pts, a, i, cfg, lines);  // split around the piece that leaves the tolerance unfiltered
+        smooth_range(pts, i + 1, b, cfg, lines);
+        return;
+      }
+    }
+    for (std::size_t k = 1; k < w.size(); ++k) w[k] = std::min(w[k], w[k - 1] + cfg.filter_taper);
+    for (std::size_t k = w.size() - 1; k-- > 0;) w[k] = std::min(w[k], w[k + 1] + cfg.filter_taper);
   }
-  smooth_range(pts, a, bad, cfg, lines);  // split around the piece that left the tolerance
-  smooth_range(pts, bad + 1, b, cfg, lines);
 }
 
 }  // namespace

@@ -27,9 +27,9 @@ struct PolylineSmoothing {
   double tolerance_mm = 0.05;   // the smoothed curve stays within this of the programmed lines
   double max_turn_rad = 0.35;   // a larger turn between two lines ends a run (a corner to blend)
   double min_length_mm = 1e-6;  // shorter lines end a run
-  int filter_passes = 8;        // low-pass passes over the points before the spline (fewer if P is left)
-  double max_leg_ratio = 0.25;  // a point between legs shorter than this ratio moves to its neighbours' mid-chord (0 = never)
-  double max_leg_shift = 0.5;   // ... where it lies within this share of the tolerance off that chord
+  int filter_passes = 8;        // low-pass passes over the points before the spline (fewer where P is left)
+  double filter_cut = 0.85;     // a point near a piece leaving P comes down by this share of the way to the next tier
+  double filter_taper = 0.125;  // a point's filter weight stays within this (in tiers) of its neighbours'
   std::size_t max_run_lines = 1000;  // a longer run is cut there (bounds the work and the splitting depth)
   // A piece is split in halves (exactly, the same curve) where one half bends much less than the
   // whole, so that the planner's per-piece speed cap does not hold along all of it: down to pieces
