@@ -363,7 +363,7 @@ TEST(PolylineSmoothing, EachPointIsFilteredAsMuchAsTheToleranceAllows) {
   const auto la = smoothed(arc, cfg), lj = smoothed(jog, cfg), lu = smoothed(jog, unfiltered);
   for (std::size_t i = 0; i < lj.size(); ++i) ASSERT_FALSE(lj[i].empty()) << i;  // one run, smoothed
   // The largest |dκ/ds| of the pieces of lines [8, 80) and [162, 232): far from the jog (beyond the
-  // taper's 32 points) and from the run's ends, where the curvature rises from 0.
+  // taper's 16 points) and from the run's ends, where the curvature rises from 0.
   const auto far = [](const std::vector<std::vector<Segment>>& lines) {
     double m = 0;
     for (std::size_t i = 0; i < lines.size(); ++i)
