@@ -384,6 +384,72 @@ TEST(PolylineSmoothing, EachPointIsFilteredAsMuchAsTheToleranceAllows) {
   run_within_limits(lj, jog.back());
 }
 
+// Seeded random polylines (3-D, legs of 0.001–3 mm with now and then one 20× longer, jogs, CAM
+// rounding) at random tolerances and filter settings: the smoothed path is continuous from the first
+// point to the last, tangent and curvature continuous inside each run, finite, and within P of the
+// programmed lines around it everywhere (64 samples a piece), whatever each point's filtering came to.
+TEST(PolylineSmoothing, RandomPolylinesStayWithinTheToleranceAtEveryFilterSetting) {
+  std::mt19937_64 rng(2027);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int trial = 0; trial < 150; ++trial) {
+    const int n = 3 + static_cast<int>(u(rng) * 200);
+    const double step = std::pow(10.0, -3 + 3.5 * u(rng));
+    const double digits = std::pow(10.0, 3 + static_cast<int>(u(rng) * 3));
+    std::vector<Vec> pts;
+    Vec p, dir{1, 0, 0};
+    pts.push_back(p);
+    for (int k = 0; k < n; ++k) {
+      for (int i = 0; i < 3; ++i) dir[i] += 0.3 * (u(rng) - 0.5);  // turns of up to about 15°
+      dir = dir * (1 / core::norm(dir));
+      const double leg = step * (u(rng) < 0.05 ? 20 : 0.2 + u(rng));
+      Vec q = p + dir * leg;
+      if (u(rng) < 0.03) q[1] += step * 0.2;  // a jog
+      for (int i = 0; i < 3; ++i) q[i] = std::round(q[i] * digits) / digits;
+      if (core::distance(q, p) > 1e-6) pts.push_back(p = q);
+    }
+    PolylineSmoothing cfg;
+    cfg.tolerance_mm = step * std::pow(10.0, -2 + 1.5 * u(rng));  // from a hundredth of a leg to a third
+    cfg.filter_passes = static_cast<int>(u(rng) * 13);
+    cfg.filter_cut = 0.3 + 0.65 * u(rng);
+    cfg.filter_taper = 0.05 + u(rng);
+    std::vector<std::vector<Segment>> lines;
+    smooth_polyline(pts, cfg, lines);
+    ASSERT_EQ(lines.size(), pts.size() - 1);
+    Vec at = pts.front();
+    const Segment* prev = nullptr;
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+      if (lines[i].empty()) {
+        ASSERT_EQ(at, pts[i]) << trial << " line " << i;
+        at = pts[i + 1];
+        prev = nullptr;
+        continue;
+      }
+      for (const Segment& s : lines[i]) {
+        ASSERT_EQ(s.start, at) << trial << " line " << i;
+        ASSERT_TRUE(std::isfinite(s.length) && s.length > 0) << trial << " line " << i;
+        if (prev) {
+          EXPECT_LT(core::norm(prev->tangent(prev->length) - s.tangent(0)), 1e-6) << trial << " line " << i;
+          const double k = std::max(1.0, core::norm(s.curvature(0)));
+          EXPECT_LT(core::norm(prev->curvature(prev->length) - s.curvature(0)), 1e-5 * k) << trial << " line " << i;
+        }
+        // Against the lines around it (i − 3 … i + 3): never nearer than against all of them.
+        const std::vector<Vec> near(pts.begin() + static_cast<std::ptrdiff_t>(i >= 3 ? i - 3 : 0),
+                                    pts.begin() + static_cast<std::ptrdiff_t>(std::min(pts.size(), i + 5)));
+        for (int k = 0; k <= 64; ++k) {
+          const Vec q = s.point(s.length * k / 64);
+          ASSERT_LE(distance_to_polyline(q, near), cfg.tolerance_mm * (1 + 1e-9) + 1e-12)
+              << trial << " line " << i << " P " << cfg.tolerance_mm << " passes " << cfg.filter_passes;
+        }
+        at = s.end;
+        prev = &s;
+      }
+      // A run ends where the next line is kept or a corner follows (each run starts with a stub).
+      if (i + 1 < lines.size() && (lines[i + 1].empty() || lines[i + 1].front().kind == SegmentKind::Line)) prev = nullptr;
+    }
+    EXPECT_EQ(at, pts.back()) << trial;
+  }
+}
+
 // Thinning before smoothing (thin_polyline): 1 µm lines along a line, rounded as CAM prints them,
 // become legs of at most max_leg; a point off the chord by more than eps, a reversal and a line
 // longer than max_leg are kept, and so are the first and last points.
