@@ -11,13 +11,6 @@ namespace softmc::motion {
 
 namespace {
 
-double distance_to_chord(const Vec& p, const Vec& a, const Vec& b) {
-  const Vec d = b - a;
-  const double l2 = core::dot(d, d);
-  const double t = l2 > 0 ? std::clamp(core::dot(p - a, d) / l2, 0.0, 1.0) : 0.0;
-  return core::distance(p, a + d * t);
-}
-
 double turn(const Vec& a, const Vec& b, const Vec& c) {
   const Vec u = b - a, w = c - b;
   const double lu = core::norm(u), lw = core::norm(w);
@@ -110,9 +103,11 @@ void filter_tiers(std::span<const Vec> pts, std::size_t a, std::size_t b, const 
 // The run of lines [a, b) of pts as B-spline pieces over the control points c (pts[a .. b] as
 // filter_tiers and the weights make them): true and `lines` filled when every piece and both stubs
 // stay within the tolerance; otherwise false with `bad` = the lines whose pieces (or stubs) leave
-// it, in order.
-bool build_run(std::span<const Vec> pts, std::size_t a, std::size_t b, const std::vector<Vec>& c, const PolylineSmoothing& cfg,
-               std::vector<std::vector<Segment>>& lines, std::vector<std::size_t>& bad) {
+// it, in order. Only the pieces j (and stubs: n = b − a the first, n + 1 the last) with dirty[j]
+// are checked: the others passed with the same control points before.
+bool build_run(std::span<const Vec> pts, std::size_t a, std::size_t b, const std::vector<Vec>& c, std::span<const char> dirty,
+               const PolylineSmoothing& cfg, std::vector<std::vector<Segment>>& lines, std::vector<std::size_t>& bad) {
+  const std::size_t n = b - a;
   bad.clear();
   // Control points: P_a twice, the filtered points, P_b twice; piece i uses q[i - a .. i - a + 3].
   std::vector<Vec> q;
@@ -130,41 +125,65 @@ bool build_run(std::span<const Vec> pts, std::size_t a, std::size_t b, const std
     const Vec& q2 = q[j + 2];
     return std::array<Vec, 4>{knot[j], (q1 * 2 + q2) * (1.0 / 3), (q1 + q2 * 2) * (1.0 / 3), knot[j + 1]};
   };
-  // Distance to the nearest of the programmed lines m0 … m1.
+  // Distance to the nearest of the programmed lines m0 … m1 (each line's
+  // direction and inverse squared length taken once a round, one square root a point).
+  std::vector<Vec> dir(n);
+  std::vector<double> inv_l2(n);
+  for (std::size_t m = 0; m < n; ++m) {
+    dir[m] = pts[a + m + 1] - pts[a + m];
+    const double l2 = core::dot(dir[m], dir[m]);
+    inv_l2[m] = l2 > 0 ? 1 / l2 : 0.0;
+  }
   const auto dist = [&](const Vec& p, std::size_t m0, std::size_t m1) {
-    double d = 1e300;
-    for (std::size_t m = m0; m <= m1; ++m) d = std::min(d, distance_to_chord(p, pts[m], pts[m + 1]));
-    return d;
+    double d2 = 1e300;
+    for (std::size_t m = m0; m <= m1; ++m) {
+      const Vec o = p - pts[m];
+      const Vec& d = dir[m - a];
+      const Vec r = o - d * std::clamp(core::dot(o, d) * inv_l2[m - a], 0.0, 1.0);
+      d2 = std::min(d2, core::dot(r, r));
+    }
+    return std::sqrt(d2);
   };
   // Within the tolerance all along the curve at(t), t ∈ [0, 1], near the lines m0 … m1: samples,
   // then each local peak of the samples refined by golden sections between its neighbours (a peak
   // between two samples of a long piece had left P by 1 %: a fuzzer's 3-D zigzag of 18.8 mm and
-  // 15 µm legs at P0.0024).
-  const auto within = [&](const auto& at, int samples, std::size_t m0, std::size_t m1) {
+  // 15 µm legs at P0.0024). `speed` bounds |d at/dt|, and the distance to the lines changes no
+  // faster than the point: between samples j and j + 1 it stays below (d_j + d_{j+1} + speed·h)/2,
+  // and within a golden bracket below the larger probe + speed·0.382·(bracket). Where that is within
+  // P already, refining cannot find a point beyond it: skipped, the same decisions at a fraction of
+  // the work (the pieces near P after filtering made these checks most of a program's load).
+  const auto within = [&](const auto& at, int samples, std::size_t m0, std::size_t m1, double speed) {
+    const double tol = cfg.tolerance_mm;
+    const auto proven = [&](double bound) { return bound * (1 + 1e-9) + 1e-15 <= tol; };
+    const double h = 1.0 / samples;
     std::array<double, 33> d{};
     for (int k = 0; k <= samples; ++k) {
-      d[k] = dist(at(static_cast<double>(k) / samples), m0, m1);
-      if (!(d[k] <= cfg.tolerance_mm)) return false;
+      d[k] = dist(at(static_cast<double>(k) * h), m0, m1);
+      if (!(d[k] <= tol)) return false;
     }
     for (int k = 0; k <= samples; ++k) {
-      if ((k > 0 && d[k - 1] > d[k]) || (k < samples && d[k + 1] > d[k]) || !(d[k] > 0.25 * cfg.tolerance_mm)) continue;
-      double lo = static_cast<double>(std::max(0, k - 1)) / samples, hi = static_cast<double>(std::min(samples, k + 1)) / samples;
+      if ((k > 0 && d[k - 1] > d[k]) || (k < samples && d[k + 1] > d[k]) || !(d[k] > 0.25 * tol)) continue;
+      if ((k == 0 || proven((d[k - 1] + d[k] + speed * h) / 2)) && (k == samples || proven((d[k] + d[k + 1] + speed * h) / 2)))
+        continue;
+      double lo = static_cast<double>(std::max(0, k - 1)) * h, hi = static_cast<double>(std::min(samples, k + 1)) * h;
       constexpr double kG = 0.6180339887498949;
       double x1 = hi - kG * (hi - lo), x2 = lo + kG * (hi - lo);
       double f1 = dist(at(x1), m0, m1), f2 = dist(at(x2), m0, m1);
       for (int it = 0; it < 40; ++it) {
-        if (!(f1 <= cfg.tolerance_mm) || !(f2 <= cfg.tolerance_mm)) return false;
+        if (!(f1 <= tol) || !(f2 <= tol)) return false;
+        if (proven(std::max(f1, f2) + speed * (1 - kG) * (hi - lo))) break;
         if (f1 > f2) {
           hi = x2, x2 = x1, f2 = f1, x1 = hi - kG * (hi - lo), f1 = dist(at(x1), m0, m1);
         } else {
           lo = x1, x1 = x2, f1 = f2, x2 = lo + kG * (hi - lo), f2 = dist(at(x2), m0, m1);
         }
       }
-      if (!(f1 <= cfg.tolerance_mm) || !(f2 <= cfg.tolerance_mm)) return false;
+      if (!(f1 <= tol) || !(f2 <= tol)) return false;
     }
     return true;
   };
   for (std::size_t i = a; i < b; ++i) {
+    if (!dirty[i - a]) continue;
     const auto c4 = ctrl(i - a);
     // The piece lies in the hull of its control points, near pts[i-1 .. i+2]: its nearest
     // programmed lines are i-1, i, i+1.
@@ -173,15 +192,18 @@ bool build_run(std::span<const Vec> pts, std::size_t a, std::size_t b, const std
       const double u = 1 - t;
       return c4[0] * (u * u * u) + c4[1] * (3 * u * u * t) + c4[2] * (3 * u * t * t) + c4[3] * (t * t * t);
     };
-    if (!within(at, 32, lo, hi)) bad.push_back(i);
+    // |C'| ≤ 3·max |c_{k+1} − c_k| (a cubic's derivative is a quadratic Bézier over those legs).
+    double speed = 0;
+    for (int k = 0; k < 3; ++k) speed = std::max(speed, 3 * core::distance(c4[k], c4[k + 1]));
+    if (!within(at, 32, lo, hi, speed)) bad.push_back(i);
   }
   // The stubs run from P_a towards the first filtered point, and into P_b: near the first two and
   // last two lines, checked like the pieces.
   const Segment first = make_line(pts[a], knot.front()), last = make_line(knot.back(), pts[b]);
-  if (!within([&](double t) { return first.point(first.length * t); }, 8, a, std::min(a + 1, b - 1)) &&
+  if (dirty[n] && !within([&](double t) { return first.point(first.length * t); }, 8, a, std::min(a + 1, b - 1), first.length) &&
       (bad.empty() || bad.front() != a))
     bad.insert(bad.begin(), a);
-  if (!within([&](double t) { return last.point(last.length * t); }, 8, b >= a + 2 ? b - 2 : a, b - 1) &&
+  if (dirty[n + 1] && !within([&](double t) { return last.point(last.length * t); }, 8, b >= a + 2 ? b - 2 : a, b - 1, last.length) &&
       (bad.empty() || bad.back() != b - 1))
     bad.push_back(b - 1);
   if (!bad.empty()) return false;
@@ -212,14 +234,37 @@ void smooth_range(std::span<const Vec> pts, std::size_t a, std::size_t b, const 
   if (tiers.size() == 1) tiers.push_back(tiers[0]);  // no filtering: two equal tiers
   const double top = static_cast<double>(tiers.size() - 1);
   std::vector<double> w(b - a + 1, top);
-  std::vector<Vec> c(b - a + 1);
+  const std::size_t n = b - a;
+  std::vector<Vec> c(n + 1), checked;
+  // Pieces to check this round: all in the first; then those whose control points moved since the
+  // last (piece j uses c[j − 1 … j + 2]; the stubs, n and n + 1, the first two and the last two) and
+  // those that left P. The others passed with the same control points: the same decisions as
+  // checking every piece every round, at a fraction of the work.
+  std::vector<char> dirty(n + 2, 1);
   std::vector<std::size_t> bad;
   for (int round = 0;; ++round) {
     for (std::size_t k = 0; k < c.size(); ++k) {
       const std::size_t t = std::min(tiers.size() - 2, static_cast<std::size_t>(w[k]));
       c[k] = tiers[t][k] + (tiers[t + 1][k] - tiers[t][k]) * (w[k] - static_cast<double>(t));
     }
-    if (build_run(pts, a, b, c, cfg, lines, bad)) return;
+    if (round > 0) {
+      // What left P last round is checked again even where its points did not move (a lowered
+      // weight need not move a point: the run's ends, or tiers that agree there).
+      std::fill(dirty.begin(), dirty.end(), 0);
+      for (const std::size_t i : bad) {
+        dirty[i - a] = 1;
+        if (i == a) dirty[n] = 1;
+        if (i + 1 == b) dirty[n + 1] = 1;
+      }
+      for (std::size_t k = 0; k <= n; ++k) {
+        if (c[k] == checked[k]) continue;
+        for (std::size_t j = k >= 2 ? k - 2 : 0; j <= std::min(n - 1, k + 1); ++j) dirty[j] = 1;
+        if (k <= 1) dirty[n] = 1;
+        if (k + 1 >= n) dirty[n + 1] = 1;
+      }
+    }
+    if (build_run(pts, a, b, c, dirty, cfg, lines, bad)) return;
+    checked = c;
     // Past kMaxRounds (bounds the work), a piece's points go straight to their tier below.
     constexpr int kMaxRounds = 64;
     const double cut = round < kMaxRounds ? cfg.filter_cut : 0.0;
