@@ -7,6 +7,7 @@
 #include "motion/geometry/bezier.hpp"
 #include "motion/geometry/newton_polynomial.hpp"
 #include "motion/geometry/nurbs.hpp"
+#include "motion/geometry/polyline_smoothing.hpp"
 #include "motion/geometry/segment.hpp"
 
 using namespace softmc;
@@ -96,3 +97,29 @@ static void BM_BuildCubicBezier(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_BuildCubicBezier);
+
+// Smoothing a CAM polyline at load (polyline_smoothing.hpp): six raster passes over a surface with a
+// wall (0.25 mm steps printed to 1 µm, the wall 4 mm high over 1 mm, as bench/smoothing_variety.py's
+// kind 0), at P 0.09 (3D_Chips's P0.1) and 0.02: the wall's points are filtered less, point by point,
+// over several rounds of checks. Reported per programmed line.
+static void BM_SmoothPolylineWall(benchmark::State& state) {
+  const double tol = state.range(0) / 1000.0;
+  std::vector<motion::Vec> pts;
+  for (int row = 0; row < 6; ++row) {
+    for (int i = 0; i <= 160; ++i) {
+      const double x = 0.25 * (row % 2 ? 160 - i : i), y = 2.0 * row;
+      const double z = -4 / (1 + std::exp(-(x - 20) / 0.25)) + 0.3 * std::sin(x * 0.5 + y);
+      pts.push_back({std::round(x * 1000) / 1000, std::round(y * 1000) / 1000, std::round(z * 1000) / 1000});
+    }
+  }
+  motion::PolylineSmoothing cfg;
+  cfg.tolerance_mm = tol;
+  cfg.max_turn_rad = 20 * 3.14159265358979323846 / 180;
+  std::vector<std::vector<motion::Segment>> lines;
+  for (auto _ : state) {
+    motion::smooth_polyline(pts, cfg, lines);
+    benchmark::DoNotOptimize(lines.data());
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(pts.size() - 1));
+}
+BENCHMARK(BM_SmoothPolylineWall)->Arg(90)->Arg(20)->Unit(benchmark::kMillisecond);
