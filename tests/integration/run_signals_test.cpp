@@ -199,11 +199,12 @@ std::string surfacing() {
 // limit kept, the stopped position on the path. The stop comes at X17.39 on line 921 (the time it
 // is asked at follows the program's: 7.3 s before sharp corners became stops where that is quicker,
 // "Blend or stop", 6.814 s since, 6.742 s since curves before a stop take the limits of their
-// reach, "Blocks at rest"; the time to rest depends on where).
+// reach, "Blocks at rest", 6.738 s since the smoothing's centripetal knots; the time to rest depends
+// on where).
 TEST(RunSignals, P5_AStopOnASmoothedRunBrakesHarderAsItSlows) {
   const auto cfg = comparison_machine();
   const std::string program = surfacing();
-  const double t_stop = 6.742;
+  const double t_stop = 6.738;
   const auto r = run(fmt::format("{} stop_request 1\n", t_stop), cfg, program);
   ASSERT_TRUE(r.res.stopped) << r.res.result;
   EXPECT_NEAR(at(r, t_stop).cmd[0], 17.39, 0.05);

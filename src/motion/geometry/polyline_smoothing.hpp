@@ -1,8 +1,8 @@
 // Curvature-continuous smoothing of CAM polylines, for jerk-limited paths (docs/planner.md).
 //
 //   P0 ──── P1 ──── P2 ──── P3 ──── P4        programmed: short lines, small turns
-//   P0 ─S╮                       ╭E─ P4        smoothed: a uniform cubic B-spline with control points
-//        ╰──── · ──── · ──── · ─╯              P0 P0 P1 … P4 P4, one cubic piece per line, and two
+//   P0 ─S╮                       ╭E─ P4        smoothed: a cubic B-spline (centripetal knots) with control
+//        ╰──── · ──── · ──── · ─╯              points P0 P0 P1 … P4 P4, one cubic piece per line, and two
 //                                              line stubs P0→S, E→P4 along the first and last lines
 //
 // Corners of arcs and lines step the curvature, and a curvature step at speed v steps every axis's
@@ -27,6 +27,7 @@ struct PolylineSmoothing {
   double tolerance_mm = 0.05;   // the smoothed curve stays within this of the programmed lines
   double max_turn_rad = 0.35;   // a larger turn between two lines ends a run (a corner to blend)
   double min_length_mm = 1e-6;  // shorter lines end a run
+  double knot_exponent = 0.5;   // knot intervals |leg|^this: 0 uniform, ½ centripetal, 1 chord length
   int filter_passes = 8;        // low-pass passes over the points before the spline (fewer where P is left)
   double filter_cut = 0.85;     // a point near a piece leaving P comes down by this share of the way to the next tier
   double filter_taper = 0.25;   // a point's filter weight stays within this (in tiers) of its neighbours'
