@@ -398,7 +398,7 @@ TEST(PolylineSmoothing, EachPointIsFilteredAsMuchAsTheToleranceAllows) {
     return m;
   };
   EXPECT_LT(far(lj), 1.25 * far(la)) << far(lj) << " vs " << far(la);
-  EXPECT_LT(far(lj), 0.25 * far(lu)) << far(lj) << " vs " << far(lu);
+  EXPECT_LT(far(lj), 0.05 * far(lu)) << far(lj) << " vs " << far(lu);
   for (const auto& s : flatten(lj))
     for (int i = 0; i <= 16; ++i) EXPECT_LE(distance_to_polyline(s.point(s.length * i / 16), jog), cfg.tolerance_mm + 1e-12);
   const auto segs = flatten(lj);
