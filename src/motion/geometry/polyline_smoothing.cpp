@@ -241,16 +241,17 @@ void smooth_range(std::span<const Vec> pts, std::size_t a, std::size_t b, const 
   // As much filtering as the tolerance allows, point by point. Each point's weight w (0 … the last
   // tier) places it between two tiers of filter_tiers: tier ⌊w⌋ and the next, by w's fraction. All
   // start at the most filtered tier. The control points of a piece that leaves the tolerance (the
-  // four around it) keep filter_cut of their way above the tier below (0.85: they come down by
-  // 15 %), and drop to it once within a sixteenth of a tier; a point's weight stays within
-  // filter_taper of its neighbours', so the control points pass smoothly from one tier to the next
-  // (whole tiers from point to point made curvature bumps: 3D_Chips.ngc ran slower than with the
-  // whole run filtered less). A piece that leaves the tolerance unfiltered splits the run there, and
-  // each part goes on with the weights it had (starting both again from the top made a 1 000-line
+  // four of a uniform spline around it; the run's end points are the same in every tier and do not
+  // count) keep filter_cut of their way above the tier below (0.85: they come down by 15 %, once for
+  // each such piece), and drop to it once within a sixteenth of a tier; a point's weight stays
+  // within filter_taper of its neighbours', so the control points pass smoothly from one tier to
+  // the next (whole tiers from point to point made curvature bumps: 3D_Chips.ngc ran slower than
+  // with the whole run filtered less). A piece that leaves the tolerance unfiltered splits the run
+  // there; each part goes on with the weights it had, but for the points within the taper's reach
+  // of the cut, which start again from the top (starting both parts from the top made a 1 000-line
   // run with a jog every 4 lines at P 0.005 take 218 splits of up to 46 rounds: 20–80× the time of
-  // the whole-run filter). The run's end points are the same in every tier, so their weights do
-  // not count. Before (stop 26), the whole run came down to 2 passes, and then to none, where any
-  // piece left it: on 3D_Chips.ngc 397 of 4 546 smoothed lines kept 8 passes.
+  // the whole-run filter). Before (stop 26), the whole run came down to 2 passes, and then to none,
+  // where any piece left it: on 3D_Chips.ngc 397 of 4 546 smoothed lines kept 8 passes.
   std::vector<std::vector<Vec>> tiers;
   filter_tiers(pts, a, b, cfg, tiers);
   if (tiers.size() == 1) tiers.push_back(tiers[0]);  // no filtering: two equal tiers, every weight 0
@@ -261,9 +262,8 @@ void smooth_range(std::span<const Vec> pts, std::size_t a, std::size_t b, const 
   std::vector<Vec> c(n + 1), checked;
   // Pieces to check this round: all in the first; then those whose control points moved since the
   // last (piece j depends on c[j − 2 … j + 3]; the stubs, n and n + 1, on the first three and the
-  // last three) and
-  // those that left P. The others passed with the same control points: the same decisions as
-  // checking every piece every round, at a fraction of the work.
+  // last three) and those that left P. The others passed with the same control points: the same
+  // decisions as checking every piece every round, at a fraction of the work.
   std::vector<char> dirty(n + 2, 1);
   std::vector<std::size_t> bad;
   for (int round = 0;; ++round) {
