@@ -98,20 +98,9 @@ static void BM_BuildCubicBezier(benchmark::State& state) {
 }
 BENCHMARK(BM_BuildCubicBezier);
 
-// Smoothing a CAM polyline at load (polyline_smoothing.hpp): six raster passes over a surface with a
-// wall (0.25 mm steps printed to 1 µm, the wall 4 mm high over 1 mm, as bench/smoothing_variety.py's
-// kind 0), at P 0.09 (3D_Chips's P0.1) and 0.02: the wall's points are filtered less, point by point,
-// over several rounds of checks. Reported per programmed line.
-static void BM_SmoothPolylineWall(benchmark::State& state) {
-  const double tol = state.range(0) / 1000.0;
-  std::vector<motion::Vec> pts;
-  for (int row = 0; row < 6; ++row) {
-    for (int i = 0; i <= 160; ++i) {
-      const double x = 0.25 * (row % 2 ? 160 - i : i), y = 2.0 * row;
-      const double z = -4 / (1 + std::exp(-(x - 20) / 0.25)) + 0.3 * std::sin(x * 0.5 + y);
-      pts.push_back({std::round(x * 1000) / 1000, std::round(y * 1000) / 1000, std::round(z * 1000) / 1000});
-    }
-  }
+// Smooths pts at tolerance tol (turns up to 20° in a run, as the Channel sets it) every iteration;
+// reported per programmed line.
+static void smooth_per_line(benchmark::State& state, const std::vector<motion::Vec>& pts, double tol) {
   motion::PolylineSmoothing cfg;
   cfg.tolerance_mm = tol;
   cfg.max_turn_rad = 20 * 3.14159265358979323846 / 180;
@@ -122,25 +111,33 @@ static void BM_SmoothPolylineWall(benchmark::State& state) {
   }
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(pts.size() - 1));
 }
+
+// Smoothing a CAM polyline at load (polyline_smoothing.hpp): six raster passes over a surface with a
+// wall (0.25 mm steps printed to 1 µm, the wall 4 mm high over 1 mm, as bench/smoothing_variety.py's
+// kind 0), at P 0.09 (3D_Chips's P0.1) and 0.02: the wall's points are filtered less, point by point,
+// over several rounds of checks.
+static void BM_SmoothPolylineWall(benchmark::State& state) {
+  std::vector<motion::Vec> pts;
+  for (int row = 0; row < 6; ++row) {
+    for (int i = 0; i <= 160; ++i) {
+      const double x = 0.25 * (row % 2 ? 160 - i : i), y = 2.0 * row;
+      const double z = -4 / (1 + std::exp(-(x - 20) / 0.25)) + 0.3 * std::sin(x * 0.5 + y);
+      pts.push_back({std::round(x * 1000) / 1000, std::round(y * 1000) / 1000, std::round(z * 1000) / 1000});
+    }
+  }
+  smooth_per_line(state, pts, state.range(0) / 1000.0);
+}
 BENCHMARK(BM_SmoothPolylineWall)->Arg(90)->Arg(20)->Unit(benchmark::kMillisecond);
 
 // The smoothing's worst load found so far (the stop-27 review's): an R50 arc of 1 000 lines of 0.25 mm
 // with every fourth point moved 0.05 mm aside, at P 0.005: most pieces leave P at every tier, and the
-// run is split about two hundred times. Reported per programmed line.
+// run is split about two hundred times.
 static void BM_SmoothPolylineJogs(benchmark::State& state) {
   std::vector<motion::Vec> pts;
   for (int k = 0; k <= 1000; ++k) {
     const double t = 0.25 * k / 50;
     pts.push_back({50 * std::sin(t), 50 * (1 - std::cos(t)) + (k % 4 == 2 ? 0.05 : 0.0), 0});
   }
-  motion::PolylineSmoothing cfg;
-  cfg.tolerance_mm = 0.005;
-  cfg.max_turn_rad = 20 * 3.14159265358979323846 / 180;
-  std::vector<std::vector<motion::Segment>> lines;
-  for (auto _ : state) {
-    motion::smooth_polyline(pts, cfg, lines);
-    benchmark::DoNotOptimize(lines.data());
-  }
-  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(pts.size() - 1));
+  smooth_per_line(state, pts, 0.005);
 }
 BENCHMARK(BM_SmoothPolylineJogs)->Unit(benchmark::kMillisecond);
