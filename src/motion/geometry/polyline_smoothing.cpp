@@ -100,13 +100,28 @@ void filter_tiers(std::span<const Vec> pts, std::size_t a, std::size_t b, const 
   }
 }
 
+// The programmed lines of a run [a, b), for distances to them: line a + m runs from pts[a + m]
+// along dir[m], inv_l2[m] = 1/|dir[m]|² (0 for a line of no length). Taken once a run.
+struct RunLines {
+  std::vector<Vec> dir;
+  std::vector<double> inv_l2;
+  RunLines(std::span<const Vec> pts, std::size_t a, std::size_t b) : dir(b - a), inv_l2(b - a) {
+    for (std::size_t m = 0; m < b - a; ++m) {
+      dir[m] = pts[a + m + 1] - pts[a + m];
+      const double l2 = core::dot(dir[m], dir[m]);
+      inv_l2[m] = l2 > 0 ? 1 / l2 : 0.0;
+    }
+  }
+};
+
 // The run of lines [a, b) of pts as B-spline pieces over the control points c (pts[a .. b] as
 // filter_tiers and the weights make them): true and `lines` filled when every piece and both stubs
 // stay within the tolerance; otherwise false with `bad` = the lines whose pieces (or stubs) leave
 // it, in order. Only the pieces j (and stubs: n = b − a the first, n + 1 the last) with dirty[j]
 // are checked: the others passed with the same control points before.
 bool build_run(std::span<const Vec> pts, std::size_t a, std::size_t b, const std::vector<Vec>& c, std::span<const char> dirty,
-               const PolylineSmoothing& cfg, std::vector<std::vector<Segment>>& lines, std::vector<std::size_t>& bad) {
+               const RunLines& prog, const PolylineSmoothing& cfg, std::vector<std::vector<Segment>>& lines,
+               std::vector<std::size_t>& bad) {
   const std::size_t n = b - a;
   bad.clear();
   // A cubic B-spline over the control points c[0] twice, c[1 … n − 1], c[n] twice, one piece per
@@ -142,21 +157,13 @@ bool build_run(std::span<const Vec> pts, std::size_t a, std::size_t b, const std
   // Check every piece first (evaluated directly: cheap, so a run split many times costs little),
   // and build the segments, whose arc-length tables are the expensive part, only for a run that passes.
   const auto ctrl = [&](std::size_t j) { return std::array<Vec, 4>{knot[j], b1[j], b2[j], knot[j + 1]}; };
-  // Distance to the nearest of the programmed lines m0 … m1 (each line's
-  // direction and inverse squared length taken once a round, one square root a point).
-  std::vector<Vec> dir(n);
-  std::vector<double> inv_l2(n);
-  for (std::size_t m = 0; m < n; ++m) {
-    dir[m] = pts[a + m + 1] - pts[a + m];
-    const double l2 = core::dot(dir[m], dir[m]);
-    inv_l2[m] = l2 > 0 ? 1 / l2 : 0.0;
-  }
+  // Distance to the nearest of the programmed lines m0 … m1 (one square root a point).
   const auto dist = [&](const Vec& p, std::size_t m0, std::size_t m1) {
     double d2 = 1e300;
     for (std::size_t m = m0; m <= m1; ++m) {
       const Vec o = p - pts[m];
-      const Vec& d = dir[m - a];
-      const Vec r = o - d * std::clamp(core::dot(o, d) * inv_l2[m - a], 0.0, 1.0);
+      const Vec& d = prog.dir[m - a];
+      const Vec r = o - d * std::clamp(core::dot(o, d) * prog.inv_l2[m - a], 0.0, 1.0);
       d2 = std::min(d2, core::dot(r, r));
     }
     return std::sqrt(d2);
@@ -266,6 +273,7 @@ void smooth_range(std::span<const Vec> pts, std::size_t a, std::size_t b, const 
   // decisions as checking every piece every round, at a fraction of the work.
   std::vector<char> dirty(n + 2, 1);
   std::vector<std::size_t> bad;
+  const RunLines prog(pts, a, b);
   for (int round = 0;; ++round) {
     for (std::size_t k = 0; k < c.size(); ++k) {
       const std::size_t t = std::min(tiers.size() - 2, static_cast<std::size_t>(w[k]));
@@ -287,7 +295,7 @@ void smooth_range(std::span<const Vec> pts, std::size_t a, std::size_t b, const 
         if (k + 2 >= n) dirty[n + 1] = 1;
       }
     }
-    if (build_run(pts, a, b, c, dirty, cfg, lines, bad)) return;
+    if (build_run(pts, a, b, c, dirty, prog, cfg, lines, bad)) return;
     checked = c;
     // Past kMaxRounds (bounds the work), a piece's points go straight to their tier below.
     constexpr int kMaxRounds = 64;

@@ -29,7 +29,7 @@ struct PolylineSmoothing {
   double min_length_mm = 1e-6;  // shorter lines end a run
   double knot_exponent = 0.5;   // knot intervals |leg|^this: 0 uniform, ½ centripetal, 1 chord length
   int filter_passes = 8;        // low-pass passes over the points before the spline (fewer where P is left)
-  double filter_cut = 0.85;     // a point near a piece leaving P comes down by this share of the way to the next tier
+  double filter_cut = 0.85;     // a point near a piece leaving P keeps this share of its way above the next tier down
   double filter_taper = 0.25;   // a point's filter weight stays within this (in tiers) of its neighbours'
   std::size_t max_run_lines = 1000;  // a longer run is cut there (bounds the work and the splitting depth)
   // A piece is split in halves (exactly, the same curve) where one half bends much less than the
