@@ -133,9 +133,19 @@ bool build_run(std::span<const Vec> pts, std::size_t a, std::size_t b, const std
   // the knot between two pieces divides b2 of the one and b1 of the next as D(j − 1) : D(j) (Farin,
   // "Curves and Surfaces for CAGD", B-spline to Bézier), so the curve stays C² in its knot parameter
   // and curvature-continuous as a path; piece j depends on c[j − 2 … j + 3].
+  // An interval is at least a hundredth of its neighbours' (legs of under 1e-4 of theirs at ½): a
+  // micron leg beside millimetre ones otherwise squeezes its pieces' inner points so close that the
+  // rounding of their coordinates bends them (curvature 1e4/mm where the spline meets its stub).
   std::vector<double> dk(n);
   for (std::size_t j = 0; j < n; ++j)
     dk[j] = cfg.knot_exponent == 0 ? 1.0 : std::max(1e-12, std::pow(core::distance(c[j], c[j + 1]), cfg.knot_exponent));
+  if (cfg.knot_exponent != 0) {
+    std::vector<double> raw = dk;
+    for (std::size_t j = 0; j < n; ++j) {
+      const double near = std::max(j > 0 ? raw[j - 1] : 0.0, j + 1 < n ? raw[j + 1] : 0.0);
+      dk[j] = std::max(raw[j], 0.01 * near);
+    }
+  }
   const auto D = [&](std::ptrdiff_t j) { return dk[static_cast<std::size_t>(std::clamp<std::ptrdiff_t>(j, 0, static_cast<std::ptrdiff_t>(n) - 1))]; };
   std::vector<Vec> b1(n), b2(n);
   for (std::size_t j = 0; j < n; ++j) {
@@ -168,41 +178,45 @@ bool build_run(std::span<const Vec> pts, std::size_t a, std::size_t b, const std
     }
     return std::sqrt(d2);
   };
-  // Within the tolerance all along the curve at(t), t ∈ [0, 1], near the lines m0 … m1: samples,
-  // then each local peak of the samples refined by golden sections between its neighbours (a peak
-  // between two samples of a long piece had left P by 1 %: a fuzzer's 3-D zigzag of 18.8 mm and
-  // 15 µm legs at P0.0024). `speed` bounds |d at/dt|, and the distance to the lines changes no
-  // faster than the point: between samples j and j + 1 it stays below (d_j + d_{j+1} + speed·h)/2,
-  // and within a golden bracket below the larger probe + speed·0.382·(bracket). Where that is within
-  // P already, refining cannot find a point beyond it: skipped, the same decisions at a fraction of
-  // the work (the pieces near P after filtering made these checks most of a program's load).
+  // Within the tolerance all along the curve at(t), t ∈ [0, 1], near the lines m0 … m1, proven, not
+  // sampled: `speed` bounds |d at/dt|, and the distance to the lines changes no faster than the
+  // point, so between t0 < t1 at distances d0, d1 it stays below (d0 + d1 + speed·(t1 − t0))/2.
+  // After `samples` even samples, each interval that bound does not keep within P is halved (its
+  // middle evaluated) until it does or a point beyond P turns up; one still unproven after
+  // kMaxHalvings halvings, or past kEvalBudget evaluations, counts as leaving P. Until stop 27 the
+  // samples' local peaks were refined by golden sections: with centripetal knots a turn at a long
+  // leg followed by micron legs is squeezed into a few thousandths of t, and a piece went 1.18·P
+  // off the program between two samples that were not a peak (the review's case,
+  // PolylineSmoothing.APieceIsWithinPEvenBetweenSamples).
   const auto within = [&](const auto& at, int samples, std::size_t m0, std::size_t m1, double speed) {
+    constexpr int kMaxHalvings = 40, kEvalBudget = 4096;
     const double tol = cfg.tolerance_mm;
-    const auto proven = [&](double bound) { return bound * (1 + 1e-9) + 1e-15 <= tol; };
-    const double h = 1.0 / samples;
-    std::array<double, 33> d{};
-    for (int k = 0; k <= samples; ++k) {
-      d[k] = dist(at(static_cast<double>(k) * h), m0, m1);
-      if (!(d[k] <= tol)) return false;
-    }
-    for (int k = 0; k <= samples; ++k) {
-      if ((k > 0 && d[k - 1] > d[k]) || (k < samples && d[k + 1] > d[k]) || !(d[k] > 0.25 * tol)) continue;
-      if ((k == 0 || proven((d[k - 1] + d[k] + speed * h) / 2)) && (k == samples || proven((d[k] + d[k + 1] + speed * h) / 2)))
-        continue;
-      double lo = static_cast<double>(std::max(0, k - 1)) * h, hi = static_cast<double>(std::min(samples, k + 1)) * h;
-      constexpr double kG = 0.6180339887498949;
-      double x1 = hi - kG * (hi - lo), x2 = lo + kG * (hi - lo);
-      double f1 = dist(at(x1), m0, m1), f2 = dist(at(x2), m0, m1);
-      for (int it = 0; it < 40; ++it) {
-        if (!(f1 <= tol) || !(f2 <= tol)) return false;
-        if (proven(std::max(f1, f2) + speed * (1 - kG) * (hi - lo))) break;
-        if (f1 > f2) {
-          hi = x2, x2 = x1, f2 = f1, x1 = hi - kG * (hi - lo), f1 = dist(at(x1), m0, m1);
-        } else {
-          lo = x1, x1 = x2, f1 = f2, x2 = lo + kG * (hi - lo), f2 = dist(at(x2), m0, m1);
-        }
+    const auto proven = [&](double t0, double d0, double t1, double d1) {
+      return (d0 + d1 + speed * (t1 - t0)) / 2 * (1 + 1e-9) + 1e-15 <= tol;
+    };
+    struct Interval {
+      double t0, d0, t1, d1;
+      int halvings;
+    };
+    std::array<Interval, kMaxHalvings + 2> stack{};  // depth first: one pending half a level
+    int evals = 0;
+    double t_prev = 0, d_prev = dist(at(0.0), m0, m1);
+    if (!(d_prev <= tol)) return false;
+    for (int k = 1; k <= samples; ++k) {
+      const double t = static_cast<double>(k) / samples, d = dist(at(t), m0, m1);
+      if (!(d <= tol)) return false;
+      std::size_t top = 0;
+      stack[top++] = {t_prev, d_prev, t, d, 0};
+      while (top > 0) {
+        const Interval iv = stack[--top];
+        if (proven(iv.t0, iv.d0, iv.t1, iv.d1)) continue;
+        if (iv.halvings >= kMaxHalvings || ++evals > kEvalBudget) return false;
+        const double tm = 0.5 * (iv.t0 + iv.t1), dm = dist(at(tm), m0, m1);
+        if (!(dm <= tol)) return false;
+        stack[top++] = {tm, dm, iv.t1, iv.d1, iv.halvings + 1};
+        stack[top++] = {iv.t0, iv.d0, tm, dm, iv.halvings + 1};
       }
-      if (!(f1 <= tol) || !(f2 <= tol)) return false;
+      t_prev = t, d_prev = d;
     }
     return true;
   };
@@ -265,7 +279,15 @@ void smooth_range(std::span<const Vec> pts, std::size_t a, std::size_t b, const 
   const double top = cfg.filter_passes > 0 ? static_cast<double>(tiers.size() - 1) : 0.0;
   const std::size_t n = b - a;
   std::vector<double> w(n + 1, top);
-  if (w0.size() == n + 1) std::copy(w0.begin(), w0.end(), w.begin());
+  // Each weight within filter_taper of its neighbours' (a part's carried weights rise from the cut).
+  const auto taper = [&] {
+    for (std::size_t k = 1; k < w.size(); ++k) w[k] = std::min(w[k], w[k - 1] + cfg.filter_taper);
+    for (std::size_t k = w.size() - 1; k-- > 0;) w[k] = std::min(w[k], w[k + 1] + cfg.filter_taper);
+  };
+  if (w0.size() == n + 1) {
+    std::copy(w0.begin(), w0.end(), w.begin());
+    taper();
+  }
   std::vector<Vec> c(n + 1), checked;
   // Pieces to check this round: all in the first; then those whose control points moved since the
   // last (piece j depends on c[j − 2 … j + 3]; the stubs, n and n + 1, on the first three and the
@@ -321,8 +343,7 @@ void smooth_range(std::span<const Vec> pts, std::size_t a, std::size_t b, const 
         return;
       }
     }
-    for (std::size_t k = 1; k < w.size(); ++k) w[k] = std::min(w[k], w[k - 1] + cfg.filter_taper);
-    for (std::size_t k = w.size() - 1; k-- > 0;) w[k] = std::min(w[k], w[k + 1] + cfg.filter_taper);
+    taper();
   }
 }
 
@@ -330,12 +351,12 @@ void smooth_range(std::span<const Vec> pts, std::size_t a, std::size_t b, const 
 
 void smooth_polyline(std::span<const Vec> pts, const PolylineSmoothing& settings, std::vector<std::vector<Segment>>& lines) {
   // Settings outside their ranges take their defaults: weights must only fall (cut below 1, taper
-  // above 0, neither NaN), and knot intervals stay positive.
+  // above 0, neither NaN), and knot intervals are between uniform and chord length.
   PolylineSmoothing cfg = settings;
   const PolylineSmoothing defaults;
   if (!(cfg.filter_cut >= 0 && cfg.filter_cut < 1)) cfg.filter_cut = defaults.filter_cut;
   if (!(cfg.filter_taper > 0 && std::isfinite(cfg.filter_taper))) cfg.filter_taper = defaults.filter_taper;
-  if (!(cfg.knot_exponent >= 0 && cfg.knot_exponent <= 2)) cfg.knot_exponent = defaults.knot_exponent;
+  if (!(cfg.knot_exponent >= 0 && cfg.knot_exponent <= 1)) cfg.knot_exponent = defaults.knot_exponent;
   const std::size_t n = pts.size() < 2 ? 0 : pts.size() - 1;
   lines.assign(n, {});
   if (!(cfg.tolerance_mm > 0)) return;

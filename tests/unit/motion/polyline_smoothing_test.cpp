@@ -364,6 +364,41 @@ TEST(PolylineSmoothing, CentripetalKnotsBendLessWhereLegsChangeLength) {
   EXPECT_LT(rc.cycles, ru.cycles) << rc.cycles << " vs " << ru.cycles;
 }
 
+// The review's case (stop 27): 17 points whose legs run from 0.1 µm to 4.5 mm, at P 1.3073e-4, all
+// else default. With centripetal knots the turn after a 1.33 mm leg and before 0.16 µm and 0.9 µm
+// legs is squeezed into a few thousandths of the piece's t, and the piece went 1.02·P off the
+// program between two of the check's 32 samples, neither of them a local peak, so the golden
+// sections never looked there. The check now proves the distance between samples (halving where the
+// Lipschitz bound does not keep it within P): every piece within P at 4 097 points each.
+TEST(PolylineSmoothing, APieceIsWithinPEvenBetweenSamples) {
+  const double xyz[][3] = {
+      {8.3073693125078947, -3.8463209731040511, -0.55126607456960031},
+      {8.2874070999999994, -3.8647586999999999, -0.55253819999999998},
+      {7.2670452000000001, -4.7140094000000001, -0.64862540000000002},
+      {7.2669239000000001, -4.7141105999999997, -0.64863550000000003},
+      {7.2664279000000001, -4.7148355999999998, -0.64886279999999996},
+      {7.1925290000000004, -4.8178554, -0.68390759999999995},
+      {6.8541213000000001, -5.3054820999999999, -0.798207},
+      {6.8540593999999997, -5.305574, -0.7982224},
+      {6.8538271000000002, -5.3058987000000002, -0.7982747},
+      {6.8449429999999998, -5.3167863000000004, -0.79662730000000004},
+      {5.9472263999999999, -6.4520016, -0.63136530000000002},
+      {5.9281072000000004, -6.4794922000000001, -0.62689600000000001},
+      {3.5501312999999999, -10.2828152, -0.2454645},
+      {3.5484059999999999, -10.285518100000001, -0.24504049999999999},
+      {3.5474111000000002, -10.286836600000001, -0.24465310000000001},
+      {0.41948960000000002, -14.753126200000001, 0.58148630000000001},
+      {0.41912080000000002, -14.753653399999999, 0.5815825}};
+  const std::vector<Vec> pts = points(xyz);
+  PolylineSmoothing cfg;
+  cfg.tolerance_mm = 0.00013072955695586682;
+  const auto lines = smoothed(pts, cfg);
+  double worst = 0;
+  for (const auto& s : flatten(lines))
+    for (int i = 0; i <= 4096; ++i) worst = std::max(worst, distance_to_polyline(s.point(s.length * i / 4096), pts));
+  EXPECT_LE(worst, cfg.tolerance_mm * (1 + 1e-9)) << worst / cfg.tolerance_mm;
+}
+
 // A gentle arc (R50, 0.25 mm legs, printed to 1 µm) with a 0.03 mm jog in its middle, at P 0.01.
 // Eight filter passes would flatten the jog beyond P, so the points around it are filtered less; the
 // rest of the run keeps all eight, and its pieces bend as smoothly as the arc's without the jog:
