@@ -41,6 +41,15 @@ std::vector<Segment> flatten(const std::vector<std::vector<Segment>>& lines) {
   return out;
 }
 
+// The largest distance from the programmed polyline pts of the segments, each sampled at
+// samples + 1 evenly spaced points.
+double worst_deviation(const std::vector<Segment>& segs, const std::vector<Vec>& pts, int samples) {
+  double dev = 0;
+  for (const auto& s : segs)
+    for (int k = 0; k <= samples; ++k) dev = std::max(dev, distance_to_polyline(s.point(s.length * k / samples), pts));
+  return dev;
+}
+
 // The pieces as the Channel plans them: 100 mm/s, P = 0.05, tagged in order.
 std::vector<PathRequest> requests(const std::vector<std::vector<Segment>>& lines) {
   std::vector<PathRequest> reqs;
@@ -87,10 +96,7 @@ TEST(PolylineSmoothing, SplineIsCurvatureContinuousAndWithinTheTolerance) {
     EXPECT_LT(core::norm(a.tangent(a.length) - b.tangent(0)), 1e-9) << k;
     EXPECT_LT(core::norm(a.curvature(a.length) - b.curvature(0)), 1e-6) << k;  // C²: no curvature step
   }
-  double dev = 0;
-  for (const auto& s : segs)
-    for (int k = 0; k <= 64; ++k) dev = std::max(dev, distance_to_polyline(s.point(s.length * k / 64), pts));
-  EXPECT_LE(dev, cfg.tolerance_mm);
+  EXPECT_LE(worst_deviation(segs, pts, 64), cfg.tolerance_mm);
   // The filter takes the printed rounding out of the curvature: away from the run's ends (where the
   // curvature rises from 0 within one piece) it changes much less along the spline than along one
   // through the raw points.
@@ -136,10 +142,7 @@ TEST(PolylineSmoothing, TightToleranceIsKeptEverywhere) {
     cfg.tolerance_mm = tol;
     std::vector<std::vector<Segment>> lines;
     smooth_polyline(pts, cfg, lines);
-    double dev = 0;
-    for (const auto& s : flatten(lines))
-      for (int k = 0; k <= 64; ++k) dev = std::max(dev, distance_to_polyline(s.point(s.length * k / 64), pts));
-    EXPECT_LE(dev, tol) << tol;
+    EXPECT_LE(worst_deviation(flatten(lines), pts, 64), tol) << tol;
   }
 }
 
@@ -335,8 +338,7 @@ TEST(PolylineSmoothing, UnevenLegsDoNotMakeCurvatureSpikes) {
   ASSERT_FALSE(le[24].empty());  // the 8 mm line is smoothed, not kept
   EXPECT_GT(kmax(lu), 100.0);    // the spike this is about
   EXPECT_LT(kmax(le), 2.0);
-  for (const auto& s : flatten(le))
-    for (int i = 0; i <= 16; ++i) EXPECT_LE(distance_to_polyline(s.point(s.length * i / 16), pts), even.tolerance_mm + 1e-12);
+  EXPECT_LE(worst_deviation(flatten(le), pts, 16), even.tolerance_mm + 1e-12);
   const auto re = run_within_limits(le, pts.back()), ru = run_within_limits(lu, pts.back());
   EXPECT_LT(static_cast<double>(re.cycles), 0.5 * static_cast<double>(ru.cycles)) << re.cycles << " vs " << ru.cycles;
 }
@@ -358,8 +360,7 @@ TEST(PolylineSmoothing, CentripetalKnotsBendLessWhereLegsChangeLength) {
   const auto dk_max = [](const auto& lines) { return poly_max(lines, [](const Segment& s) { return s.poly.jerk_speed_term(); }); };
   EXPECT_GT(dk_max(lu), 30.0);  // the bend this is about
   EXPECT_LT(dk_max(lc), 10.0);
-  for (const auto& s : flatten(lc))
-    for (int i = 0; i <= 16; ++i) EXPECT_LE(distance_to_polyline(s.point(s.length * i / 16), pts), centripetal.tolerance_mm + 1e-12);
+  EXPECT_LE(worst_deviation(flatten(lc), pts, 16), centripetal.tolerance_mm + 1e-12);
   const auto rc = run_within_limits(lc, pts.back()), ru = run_within_limits(lu, pts.back());
   EXPECT_LT(rc.cycles, ru.cycles) << rc.cycles << " vs " << ru.cycles;
 }
@@ -393,9 +394,7 @@ TEST(PolylineSmoothing, APieceIsWithinPEvenBetweenSamples) {
   PolylineSmoothing cfg;
   cfg.tolerance_mm = 0.00013072955695586682;
   const auto lines = smoothed(pts, cfg);
-  double worst = 0;
-  for (const auto& s : flatten(lines))
-    for (int i = 0; i <= 4096; ++i) worst = std::max(worst, distance_to_polyline(s.point(s.length * i / 4096), pts));
+  const double worst = worst_deviation(flatten(lines), pts, 4096);
   EXPECT_LE(worst, cfg.tolerance_mm * (1 + 1e-9)) << worst / cfg.tolerance_mm;
 }
 
@@ -434,8 +433,7 @@ TEST(PolylineSmoothing, EachPointIsFilteredAsMuchAsTheToleranceAllows) {
   };
   EXPECT_LT(far(lj), 1.25 * far(la)) << far(lj) << " vs " << far(la);
   EXPECT_LT(far(lj), 0.05 * far(lu)) << far(lj) << " vs " << far(lu);
-  for (const auto& s : flatten(lj))
-    for (int i = 0; i <= 16; ++i) EXPECT_LE(distance_to_polyline(s.point(s.length * i / 16), jog), cfg.tolerance_mm + 1e-12);
+  EXPECT_LE(worst_deviation(flatten(lj), jog, 16), cfg.tolerance_mm + 1e-12);
   const auto segs = flatten(lj);
   for (std::size_t k = 0; k + 1 < segs.size(); ++k) {
     EXPECT_EQ(segs[k].end, segs[k + 1].start) << k;
