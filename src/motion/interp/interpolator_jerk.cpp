@@ -39,9 +39,18 @@ const Setpoint& Interpolator::step_jerk(double dt) {
                                               static_cast<std::size_t>(config_.max_horizon_blocks));
 
   // Limits for the next cycle's acceleration: every block reached before |a| can be brought to 0.
-  double a_c = f.a_mm_s2, j_c = jerk_of(f, dt);
+  // Cruising at the speed asked for, the ramp holds that speed whatever they are, and a cycle a
+  // cruise certificate settles uses nothing else: the walk (tens of blocks at speed, about 500
+  // instructions a cycle on the smoothed benchmark) waits until a candidate needs them.
+  double a_c = f.a_mm_s2 * scale, j_c = jerk_of(f, dt) * scale;
   double a_now = a_c, j_now = j_c;  // the blocks this cycle may pass through
-  {
+  bool walked = false;
+  const auto walk_limits = [&] {
+    walked = true;
+    a_c = f.a_mm_s2;
+    j_c = jerk_of(f, dt);
+    a_now = a_c;
+    j_now = j_c;
     const double vpk = std::max(v_, inflection_speed(v_, a_, j_c)) + a_c * dt;
     const double near = vpk * (2 * a_c / j_c + 3 * dt) + kEps_mm;
     const double reach = vpk * dt * 1.5 + kEps_mm;
@@ -58,12 +67,14 @@ const Setpoint& Interpolator::step_jerk(double dt) {
       }
       d += b.length;
     }
-  }
-  a_c = std::min(a_c, a_now);
-  a_c *= scale;
-  j_c *= scale;
-  a_now *= scale;
-  j_now *= scale;
+    a_c = std::min(a_c, a_now);
+    a_c *= scale;
+    j_c *= scale;
+    a_now *= scale;
+    j_now *= scale;
+  };
+  const bool at_cruise = vt > 0 && v_ == vt && a_ == 0;
+  if (!at_cruise) walk_limits();
   const ProfileState now{0, v_, a_, 0};
 
   // Candidates for this cycle, each taken only when a fallback brake from where it ends still meets
@@ -128,6 +139,10 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   }
   if (!settled) {
     cruise_.valid = false;
+    if (!walked) {
+      walk_limits();
+      step = ramp_cycle(now, vt, a_c, j_c, dt);
+    }
     first = verify(step);
   }
   if (refuse) first.hard_ok = false;
