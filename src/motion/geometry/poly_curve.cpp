@@ -361,6 +361,22 @@ struct SpeedPoly {
   }
 };
 
+// fn(speed_at) with the fastest |C'(u)| for c: a polynomial Bézier's stored |C'|² unrolled for its
+// degree (the same values as SpeedEval), else SpeedEval.
+template <class Fn>
+auto with_speed(const PolyCurve& c, const Fn& fn) {
+  if (c.basis == PolyBasis::Bezier && c.has_speed2) {
+    switch (c.speed2_degree) {
+      case 2: return fn(SpeedPoly<2>{c.speed2.data()});
+      case 4: return fn(SpeedPoly<4>{c.speed2.data()});
+      case 6: return fn(SpeedPoly<6>{c.speed2.data()});
+      case 8: return fn(SpeedPoly<8>{c.speed2.data()});
+      default: break;
+    }
+  }
+  return fn(SpeedEval(c));
+}
+
 // PolyCurve::param_at with the speed |C'(u)| from speed_at.
 template <class F>
 double invert(const PolyCurve& c, double s, const F& speed_at) {
@@ -411,17 +427,7 @@ double invert(const PolyCurve& c, double s, const F& speed_at) {
 //   Newton: u ← u - (s(u) - s)/|C'(u)|, s(u) kept up to date by integrating each step's small
 //           interval; a step leaving the bracket falls back to bisection.
 double PolyCurve::param_at(double s) const {
-  // A polynomial Bézier: its stored |C'|² unrolled for its degree (the same values as SpeedEval).
-  if (basis == PolyBasis::Bezier && has_speed2) {
-    switch (speed2_degree) {
-      case 2: return invert(*this, s, SpeedPoly<2>{speed2.data()});
-      case 4: return invert(*this, s, SpeedPoly<4>{speed2.data()});
-      case 6: return invert(*this, s, SpeedPoly<6>{speed2.data()});
-      case 8: return invert(*this, s, SpeedPoly<8>{speed2.data()});
-      default: break;
-    }
-  }
-  return param_at_reference(s);
+  return with_speed(*this, [&](const auto& speed_at) { return invert(*this, s, speed_at); });
 }
 
 // rt-safe
@@ -503,14 +509,18 @@ double PolyCurve::finalize(bool estimate) {
   fill_speed2(*this);
   s_at[0] = 0;
   double err = 0, d8 = 0;
-  const SpeedEval speed_at(*this);
-  for (std::size_t k = 0; k < kArcTableIntervals; ++k) {
-    const double a = k * kH, b = (k + 1) * kH, m = 0.5 * (a + b);
-    const double whole = gl16(speed_at, a, b);
-    if (estimate) err += std::abs(whole - (gl16(speed_at, a, m) + gl16(speed_at, m, b)));
-    d8 = std::max(d8, std::abs(gl8(speed_at, a, b) - whole));
-    s_at[k + 1] = s_at[k] + whole;
-  }
+  // (|C'| as param_at takes it: unrolled for a polynomial's degree, a third of the load's
+  // instructions less on smoothed CAM runs than SpeedEval's loop, the same values.)
+  with_speed(*this, [&](const auto& speed_at) {
+    for (std::size_t k = 0; k < kArcTableIntervals; ++k) {
+      const double a = k * kH, b = (k + 1) * kH, m = 0.5 * (a + b);
+      const double whole = gl16(speed_at, a, b);
+      if (estimate) err += std::abs(whole - (gl16(speed_at, a, m) + gl16(speed_at, m, b)));
+      d8 = std::max(d8, std::abs(gl8(speed_at, a, b) - whole));
+      s_at[k + 1] = s_at[k] + whole;
+    }
+    return 0;
+  });
   // A partial interval is shorter than a whole one, and the 8-point rule's error shrinks with it.
   gl8_ok = d8 <= 1e-14 * s_at.back();
 
@@ -549,19 +559,64 @@ double PolyCurve::finalize(bool estimate) {
   // nine: the others add zeros).
   const auto& ax = moving;
   const std::size_t m = n_moving;
-  Vec t, k, k_prev;
-  double sp_prev = 0, ds_max = 0;
-  // One sample (its derivatives d): tangent and curvature into t, k, and the secant |Δκ|/Δs from
-  // the previous sample, du of u before it (Δs by the trapezoid rule on |C'|; 0 for the first).
-  const auto sample = [&](double du, bool first, const CurveDerivs& d) {
-    tangent_curvature(d, ax.data(), m, t, k);
-    double sp2 = 0, dk2 = 0;
-    for (std::size_t j = 0; j < m; ++j) {
-      const std::size_t a = ax[j];
-      sp2 += d.d1[a] * d.d1[a];
-      dk2 += (k[a] - k_prev[a]) * (k[a] - k_prev[a]);
+  // The samples keep C', C'', T and κ on the moving axes only, by their rank j (axis ax[j]), with
+  // tangent_curvature's arithmetic in its order: the same values as evaluating the curve and
+  // calling it, without the nine-axis temporaries (half of a smoothed CAM run's load).
+  // C' and C'' at u: a polynomial cubic (the smoothing's pieces, by far the most built) takes
+  // bezier_derivs' own expressions with the control differences taken once; other curves derivs(u).
+  const bool cubic = polynomial && degree == 3;
+  std::array<std::array<double, 3>, core::kMaxAxes> diff{};
+  for (std::size_t j = 0; cubic && j < m; ++j) {
+    const std::size_t a = ax[j];
+    diff[j] = {bez.hctrl[1][a] - bez.hctrl[0][a], bez.hctrl[2][a] - bez.hctrl[1][a], bez.hctrl[3][a] - bez.hctrl[2][a]};
+  }
+  std::array<double, core::kMaxAxes> d1{}, d2{}, t{}, k{}, k_prev{};
+  const auto eval = [&](double u) {
+    if (!cubic) {
+      const CurveDerivs d = derivs(u);
+      for (std::size_t j = 0; j < m; ++j) {
+        d1[j] = d.d1[ax[j]];
+        d2[j] = d.d2[ax[j]];
+      }
+      return;
     }
-    const double sp = std::sqrt(sp2), ds = 0.5 * (sp + sp_prev) * du;
+    const double v = 1 - u;
+    for (std::size_t j = 0; j < m; ++j) {
+      const double e0 = diff[j][0], e1 = diff[j][1], e2 = diff[j][2];
+      d1[j] = 3 * (v * v * e0 + 2 * v * u * e1 + u * u * e2);
+      d2[j] = 6 * (v * (e1 - e0) + u * (e2 - e1));
+    }
+  };
+  double sp_prev = 0, ds_max = 0;
+  // One sample at u: tangent and curvature into t, k (tangent_curvature), and the secant |Δκ|/Δs
+  // from the previous sample, du of u before it (Δs by the trapezoid rule on |C'|; 0 for the first).
+  const auto sample = [&](double u, double du, bool first) {
+    eval(u);
+    double sp2 = 0, acc2 = 0;
+    for (std::size_t j = 0; j < m; ++j) {
+      sp2 += d1[j] * d1[j];
+      acc2 += d2[j] * d2[j];
+    }
+    const double sp = std::sqrt(sp2);
+    const bool still = stationary_speed(sp2, acc2);
+    if (!still) {
+      for (std::size_t j = 0; j < m; ++j) t[j] = d1[j] * (1.0 / sp);
+    } else if (const double ta = std::sqrt(acc2); ta > 0) {
+      for (std::size_t j = 0; j < m; ++j) t[j] = d2[j] * (1.0 / ta);
+    } else {
+      for (std::size_t j = 0; j < m; ++j) t[j] = 0;
+    }
+    if (still) {
+      for (std::size_t j = 0; j < m; ++j) k[j] = 0;
+    } else {
+      const double inv = 1.0 / std::sqrt(sp2);
+      double along = 0;
+      for (std::size_t j = 0; j < m; ++j) along += d2[j] * (d1[j] * inv);
+      for (std::size_t j = 0; j < m; ++j) k[j] = (d2[j] - d1[j] * inv * along) * (1.0 / sp2);
+    }
+    double dk2 = 0;
+    for (std::size_t j = 0; j < m; ++j) dk2 += (k[j] - k_prev[j]) * (k[j] - k_prev[j]);
+    const double ds = 0.5 * (sp + sp_prev) * du;
     if (!first) ds_max = std::max(ds_max, std::max(sp, sp_prev) * du);
     k_prev = k;
     sp_prev = sp;
@@ -570,13 +625,11 @@ double PolyCurve::finalize(bool estimate) {
   int i_peak = 0;  // the sample ending the interval with the largest secant
   for (int i = 0; i <= kSamples; ++i) {
     const double u = static_cast<double>(i) / kSamples;
-    const CurveDerivs d = derivs(u);
-    const double dk = sample(1.0 / kSamples, i == 0, d);
+    const double dk = sample(u, 1.0 / kSamples, i == 0);
     double k2 = 0;
     for (std::size_t j = 0; j < m; ++j) {
-      const std::size_t a = ax[j];
-      max_abs_tangent[a] = std::max(max_abs_tangent[a], std::abs(t[a]));
-      k2 += k[a] * k[a];
+      max_abs_tangent[ax[j]] = std::max(max_abs_tangent[ax[j]], std::abs(t[j]));
+      k2 += k[j] * k[j];
     }
     max_curvature = std::max(max_curvature, std::sqrt(k2));
     if (dk > max_dcurvature) {
@@ -591,10 +644,7 @@ double PolyCurve::finalize(bool estimate) {
     constexpr int kFine = 32;
     const double u0 = static_cast<double>(i_peak - 1) / kSamples, du = 1.0 / (kSamples * kFine);
     const int steps = (i_peak < kSamples ? 2 : 1) * kFine;
-    for (int i = 0; i <= steps; ++i) {
-      const double u = u0 + i * du;
-      max_dcurvature = std::max(max_dcurvature, sample(du, i == 0, derivs(u)));
-    }
+    for (int i = 0; i <= steps; ++i) max_dcurvature = std::max(max_dcurvature, sample(u0 + i * du, du, i == 0));
   }
   // A tangent share peaks between samples: by at most ½·|T''|·(Δs/2)² over the sampled largest
   // (|T''| = |dκ/ds| ≤ max_dcurvature, Δs the longest interval). Without it a G5.2 along Y ran at
