@@ -50,29 +50,27 @@ motion::CurveError append_curve_segments(const program::Op& op, const core::Vec&
   return motion::CurveError::Ok;
 }
 
-ProgramGeometry program_geometry(const program::Program& prog) {
-  ProgramGeometry g;
+std::pair<motion::CurveError, std::uint32_t> visit_program_geometry(
+    const program::Program& prog, const std::function<void(std::uint32_t, const motion::Segment&)>& fn) {
+  std::pair<motion::CurveError, std::uint32_t> error{motion::CurveError::Ok, 0};
   core::Vec at = prog.start;
   std::vector<motion::Segment> tmp;
   for (std::uint32_t i = 0; i < prog.instructions.size(); ++i) {
     const auto& op = prog.instructions[i].op;
     if (auto seg = to_segment(op, at)) {
-      g.pieces.push_back({i, *seg});
+      fn(i, *seg);
       at = seg->end;
     } else if (is_curve(op)) {
       tmp.clear();
       if (const auto e = append_curve_segments(op, at, tmp); e != motion::CurveError::Ok) {
-        if (g.error == motion::CurveError::Ok) {
-          g.error = e;
-          g.error_instruction = i;
-        }
+        if (error.first == motion::CurveError::Ok) error = {e, i};
         continue;
       }
-      for (const auto& s : tmp) g.pieces.push_back({i, s});
+      for (const auto& s : tmp) fn(i, s);
       if (!tmp.empty()) at = tmp.back().end;
     }
   }
-  return g;
+  return error;
 }
 
 }  // namespace softmc::control

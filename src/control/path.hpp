@@ -1,7 +1,9 @@
 // From IR motion instructions to geometric segments: the one place the program meets the planner.
 #pragma once
 
+#include <functional>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "motion/geometry/curve_result.hpp"
@@ -26,18 +28,11 @@ bool is_curve(const program::Op& op);
 motion::CurveError append_curve_segments(const program::Op& op, const core::Vec& from,
                                          std::vector<motion::Segment>& out);
 
-// Every motion of a program as geometric segments, in program order, with the instruction each came
-// from (a curve gives several). Not rt. The first curve that cannot be built is returned as `error`
-// with its instruction index.
-struct ProgramGeometry {
-  struct Piece {
-    std::uint32_t instruction = 0;
-    motion::Segment segment;
-  };
-  std::vector<Piece> pieces;
-  motion::CurveError error = motion::CurveError::Ok;
-  std::uint32_t error_instruction = 0;
-};
-ProgramGeometry program_geometry(const program::Program& prog);
+// Every motion of a program as geometric segments, in program order, each handed to
+// fn(instruction, segment) as it is built (a curve gives several) and none kept: a Segment is
+// 1.3 kB, a 200 000-line program's pieces 260 MB. Not rt. Returns the first curve that cannot be
+// built and its instruction index (CurveError::Ok when all could).
+std::pair<motion::CurveError, std::uint32_t> visit_program_geometry(
+    const program::Program& prog, const std::function<void(std::uint32_t, const motion::Segment&)>& fn);
 
 }  // namespace softmc::control

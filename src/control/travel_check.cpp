@@ -15,11 +15,11 @@ core::Diagnostics check_travel(const program::Program& prog, const motion::Machi
   core::Diagnostics out;
   // A line inside a loop or subroutine yields many instructions: report each source location once.
   std::set<std::tuple<std::uint16_t, std::uint32_t, std::uint32_t>> reported;
-  const auto geo = program_geometry(prog);
-  for (const auto& piece : geo.pieces) {
-    const auto& ins = prog.instructions[piece.instruction];
+  // Piece by piece as the walk builds them, none kept (a large CAM program's pieces are hundreds of MB).
+  const auto [error, error_instruction] = visit_program_geometry(prog, [&](std::uint32_t at, const motion::Segment& seg) {
+    const auto& ins = prog.instructions[at];
     core::Vec lo, hi;
-    piece.segment.bounds(lo, hi);
+    seg.bounds(lo, hi);
     for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
       std::string what;
       if (!limits.present(i)) {
@@ -36,11 +36,11 @@ core::Diagnostics check_travel(const program::Program& prog, const motion::Machi
       out.push_back({prog.file_of(ins.loc), ins.loc.line, ins.loc.col, core::Severity::Error, std::move(what)});
       break;  // one message per instruction
     }
-  }
-  if (geo.error != motion::CurveError::Ok) {
-    const auto& ins = prog.instructions[geo.error_instruction];
+  });
+  if (error != motion::CurveError::Ok) {
+    const auto& ins = prog.instructions[error_instruction];
     out.push_back({prog.file_of(ins.loc), ins.loc.line, ins.loc.col, core::Severity::Error,
-                   fmt::format("the curve cannot be built: {}", motion::to_string(geo.error))});
+                   fmt::format("the curve cannot be built: {}", motion::to_string(error))});
   }
   return out;
 }

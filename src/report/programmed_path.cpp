@@ -29,28 +29,40 @@ ProgrammedPath programmed_path(const program::Program& prog) {
   pp.before.resize(n);
   pp.after.resize(n);
   pp.start = prog.start;
-  // The same geometry the channel plans (curves expanded into several pieces).
-  const auto geo = control::program_geometry(prog);
-  std::size_t next_piece = 0;
+  pp.moves.reserve(n);  // one move an instruction, most of them: a move holds a 1.3 kB Segment
+  // The same geometry the channel plans (curves expanded into several pieces), taken piece by piece
+  // as the walk builds them: a copy of the whole program's pieces was a third of a large CAM run's memory.
   core::Vec pos = prog.start;
   bool tool_on = false;
-  for (std::size_t i = 0; i < n; ++i) {
-    const auto& op = prog.instructions[i].op;
-    pp.before[i] = pos;
-    if (const auto* t = std::get_if<program::ToolSwitch>(&op)) tool_on = t->on;
-    while (next_piece < geo.pieces.size() && geo.pieces[next_piece].instruction == i) {
-      ProgrammedMove m;
-      m.instruction = i;
-      m.kind = std::holds_alternative<program::Rapid>(op) ? MoveKind::Rapid : tool_on ? MoveKind::Cut : MoveKind::Feed;
-      m.segment = geo.pieces[next_piece].segment;
-      m.segment.bounds(m.lo, m.hi);
-      pos = m.segment.end;
-      if (!pp.move_of[i]) pp.move_of[i] = pp.moves.size();
-      pp.moves.push_back(m);
-      ++next_piece;
+  // Begins every instruction up to i: its position before, its tool switch; and ends the one
+  // before it (its position after and the moves so far), which has had all its pieces by then.
+  std::size_t next = 0;  // the next instruction to begin
+  const auto begin_through = [&](std::size_t i) {
+    for (; next <= i; ++next) {
+      if (next > 0) {
+        pp.after[next - 1] = pos;
+        pp.moves_upto[next - 1] = pp.moves.size();
+      }
+      pp.before[next] = pos;
+      if (const auto* t = std::get_if<program::ToolSwitch>(&prog.instructions[next].op)) tool_on = t->on;
     }
-    pp.after[i] = pos;
-    pp.moves_upto[i] = pp.moves.size();
+  };
+  control::visit_program_geometry(prog, [&](std::uint32_t i, const motion::Segment& seg) {
+    begin_through(i);
+    const auto& op = prog.instructions[i].op;
+    ProgrammedMove m;
+    m.instruction = i;
+    m.kind = std::holds_alternative<program::Rapid>(op) ? MoveKind::Rapid : tool_on ? MoveKind::Cut : MoveKind::Feed;
+    m.segment = seg;
+    m.segment.bounds(m.lo, m.hi);
+    pos = m.segment.end;
+    if (!pp.move_of[i]) pp.move_of[i] = pp.moves.size();
+    pp.moves.push_back(m);
+  });
+  if (n > 0) {  // the rest, none with motion, and the last one's end
+    begin_through(n - 1);
+    pp.after[n - 1] = pos;
+    pp.moves_upto[n - 1] = pp.moves.size();
   }
   pp.end = pos;
   pp.along_mm.resize(pp.moves.size() + 1);
