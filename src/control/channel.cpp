@@ -32,7 +32,20 @@ void Channel::load(const program::Program& prog) {
   curve_next_ = 0;
   // Curves are built from where the program's previous motion ends: walk the programmed geometry.
   const auto n = prog.instructions.size();
-  std::vector<std::vector<motion::Segment>> per(n);
+  // Each instruction's pieces go straight into one array, in program order (a run's lines are
+  // smoothed when it closes, before the instruction that closed it adds its own): a Segment is
+  // 1.3 kB, and a CAM program's pieces (one a line) held twice over while they were gathered per
+  // instruction, with the growth slack of arrays built by appending, were most of a 200 000-line
+  // run's memory. Reserved at about one piece an instruction (a smoothed line's piece, and a stub at
+  // each end of a run), so a CAM program's array is not grown by doubling.
+  std::vector<motion::Segment>().swap(curve_segments_);
+  curve_segments_.reserve(n + n / 16 + 64);
+  curve_first_.assign(n + 1, 0);
+  std::size_t first_set = 0;  // curve_first_ is set for instructions below this
+  const auto add_pieces = [&](std::size_t i, auto begin, auto end) {
+    for (; first_set <= i; ++first_set) curve_first_[first_set] = static_cast<std::uint32_t>(curve_segments_.size());
+    curve_segments_.insert(curve_segments_.end(), begin, end);
+  };
   curve_error_.assign(n, nullptr);
   precomputed_.assign(n, 0);
   core::Vec at = prog.start;
@@ -69,16 +82,20 @@ void Channel::load(const program::Program& prog) {
       }
       thin_pts.clear();
       for (const std::size_t k : kept) thin_pts.push_back(run_pts[k]);
-      motion::smooth_polyline(thin_pts, cfg, run_out);
       // Leg r stands for lines kept[r] … kept[r + 1] − 1: smoothed, the first carries its segments
       // and the others none (executed with it); kept as a line, all stay as programmed (collinear
-      // lines, which the planner merges).
-      for (std::size_t r = 0; r + 1 < kept.size(); ++r) {
-        if (run_out[r].empty()) continue;
-        per[run_ins[kept[r]]] = std::move(run_out[r]);
-        precomputed_[run_ins[kept[r]]] = 1;
-        for (std::size_t k = kept[r] + 1; k < kept[r + 1]; ++k) precomputed_[run_ins[k]] = kAbsorbed;
-      }
+      // lines, which the planner merges). Each stretch the smoothing finishes (up to a sharp turn,
+      // at most max_run_lines) is taken and freed at once: a whole program's pieces are not held
+      // twice.
+      motion::smooth_polyline(thin_pts, cfg, run_out, [&](std::size_t from, std::size_t to) {
+        for (std::size_t r = from; r < to; ++r) {
+          if (run_out[r].empty()) continue;
+          add_pieces(run_ins[kept[r]], run_out[r].begin(), run_out[r].end());
+          std::vector<motion::Segment>().swap(run_out[r]);
+          precomputed_[run_ins[kept[r]]] = 1;
+          for (std::size_t k = kept[r] + 1; k < kept[r + 1]; ++k) precomputed_[run_ins[k]] = kAbsorbed;
+        }
+      });
     }
     run_pts.clear();
     run_ins.clear();
@@ -110,7 +127,8 @@ void Channel::load(const program::Program& prog) {
         core::Vec from = seg->start;
         for (int k = 1; k <= pieces; ++k) {
           const core::Vec to = k == pieces ? seg->end : seg->point(seg->length * k / pieces);
-          per[i].push_back(motion::make_arc(from, to, seg->axis0, seg->axis1, seg->c0, seg->c1, seg->sweep > 0 ? 1 : -1));
+          const auto piece = motion::make_arc(from, to, seg->axis0, seg->axis1, seg->c0, seg->c1, seg->sweep > 0 ? 1 : -1);
+          add_pieces(i, &piece, &piece + 1);
           from = to;
         }
         precomputed_[i] = 1;
@@ -122,25 +140,12 @@ void Channel::load(const program::Program& prog) {
         curve_error_[i] = motion::to_string(e);
         continue;
       }
-      per[i] = tmp;
+      add_pieces(i, tmp.begin(), tmp.end());
       if (!tmp.empty()) at = tmp.back().end;
     }
   }
   close_run();
-  // Into one array of exactly their number, each instruction's released once copied: a Segment is
-  // 1.3 kB, and a CAM program's smoothed pieces (one a line) held twice over, with the growth slack
-  // of an array built by appending, were most of a 200 000-line run's 1.2 GB.
-  std::vector<motion::Segment>().swap(curve_segments_);
-  std::size_t total = 0;
-  for (const auto& p : per) total += p.size();
-  curve_segments_.reserve(total);
-  curve_first_.assign(n + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    curve_first_[i] = static_cast<std::uint32_t>(curve_segments_.size());
-    curve_segments_.insert(curve_segments_.end(), per[i].begin(), per[i].end());
-    std::vector<motion::Segment>().swap(per[i]);
-  }
-  curve_first_[n] = static_cast<std::uint32_t>(curve_segments_.size());
+  for (; first_set <= n; ++first_set) curve_first_[first_set] = static_cast<std::uint32_t>(curve_segments_.size());
 }
 
 // rt-safe

@@ -140,11 +140,9 @@ Scene make_scene(const program::Program& prog, const machine::MachineConfig& cfg
   }
   s.all.add(prog.start[s.ax0], prog.start[s.ax1]);
   for (const auto& m : s.path.moves) {
-    core::Vec lo, hi;
-    m.segment.bounds(lo, hi);
     Box& b = m.kind == MoveKind::Rapid ? s.all : s.part;
-    b.add(lo[s.ax0], lo[s.ax1]);
-    b.add(hi[s.ax0], hi[s.ax1]);
+    b.add(m.lo[s.ax0], m.lo[s.ax1]);
+    b.add(m.hi[s.ax0], m.hi[s.ax1]);
   }
   for (const auto& r : trace.rows) (r.moving && !r.rapid ? s.part : s.all).add(r.cmd[s.ax0], r.cmd[s.ax1]);
   s.all.add(s.part);
@@ -258,7 +256,7 @@ void stroke_programmed(cairo_t* cr, const Scene& s, const PlotFrame& f) {
   const double mm_per_px = f.x.span() / f.px.w;
   for (const auto& m : s.path.moves) {
     if (m.kind == MoveKind::Rapid) continue;
-    const auto& seg = m.segment;
+    const motion::Segment seg = s.path.segment(m);
     int n = 1;
     if (seg.kind != motion::SegmentKind::Line)  // arcs and curves (Bézier, NURBS) are sampled finely
       n = std::clamp(static_cast<int>(std::ceil(seg.length / (2 * mm_per_px))), 8, 20000);

@@ -29,7 +29,7 @@ ProgrammedPath programmed_path(const program::Program& prog) {
   pp.before.resize(n);
   pp.after.resize(n);
   pp.start = prog.start;
-  pp.moves.reserve(n);  // one move an instruction, most of them: a move holds a 1.3 kB Segment
+  pp.moves.reserve(n);  // one move an instruction, most of them
   // The same geometry the channel plans (curves expanded into several pieces), taken piece by piece
   // as the walk builds them: a copy of the whole program's pieces was a third of a large CAM run's memory.
   core::Vec pos = prog.start;
@@ -53,9 +53,17 @@ ProgrammedPath programmed_path(const program::Program& prog) {
     ProgrammedMove m;
     m.instruction = i;
     m.kind = std::holds_alternative<program::Rapid>(op) ? MoveKind::Rapid : tool_on ? MoveKind::Cut : MoveKind::Feed;
-    m.segment = seg;
-    m.segment.bounds(m.lo, m.hi);
-    pos = m.segment.end;
+    m.line = seg.kind == motion::SegmentKind::Line;
+    m.start = seg.start;
+    m.end = seg.end;
+    m.dir = seg.dir;
+    m.length = seg.length;
+    seg.bounds(m.lo, m.hi);
+    if (!m.line) {
+      m.curve = static_cast<std::uint32_t>(pp.curves.size());
+      pp.curves.push_back(seg);
+    }
+    pos = seg.end;
     if (!pp.move_of[i]) pp.move_of[i] = pp.moves.size();
     pp.moves.push_back(m);
   });
@@ -66,7 +74,7 @@ ProgrammedPath programmed_path(const program::Program& prog) {
   }
   pp.end = pos;
   pp.along_mm.resize(pp.moves.size() + 1);
-  for (std::size_t m = 0; m < pp.moves.size(); ++m) pp.along_mm[m + 1] = pp.along_mm[m] + pp.moves[m].segment.length;
+  for (std::size_t m = 0; m < pp.moves.size(); ++m) pp.along_mm[m + 1] = pp.along_mm[m] + pp.moves[m].length;
   // Each group's box: the union of its moves'.
   for (std::size_t g = 0; g * ProgrammedPath::kMovesPerGroup < pp.moves.size(); ++g) {
     const std::size_t a = g * ProgrammedPath::kMovesPerGroup;
@@ -80,6 +88,18 @@ ProgrammedPath programmed_path(const program::Program& prog) {
     pp.groups.push_back(grp);
   }
   return pp;
+}
+
+motion::Segment ProgrammedPath::segment(const ProgrammedMove& m) const {
+  return m.line ? motion::make_line(m.start, m.end) : curves[m.curve];
+}
+
+double ProgrammedPath::distance(const ProgrammedMove& m, const core::Vec& p, double enough) const {
+  if (!m.line) return curves[m.curve].distance_to(p, enough);
+  // Segment::distance_to of a line, in its arithmetic.
+  if (m.length <= 0) return core::distance(p, m.start);
+  const double t = std::clamp(core::dot(p - m.start, m.dir), 0.0, m.length);
+  return core::distance(p, m.start + m.dir * t);
 }
 
 std::pair<std::size_t, std::size_t> ProgrammedPath::moves_around(std::uint32_t tag, std::uint32_t tag_last) const {
@@ -110,7 +130,7 @@ double ProgrammedPath::nearest_move_mm(const core::Vec& p, std::pair<std::size_t
   const auto try_move = [&](std::size_t m) {
     const auto& mv = moves[m];
     if (box_distance(p, mv.lo, mv.hi) >= best) return;
-    const double d = mv.segment.distance_to(p, enough);
+    const double d = distance(mv, p, enough);
     if (d < best) best = d, best_m = m;
   };
   if (hint_ >= lo && hint_ <= hi) try_move(hint_);

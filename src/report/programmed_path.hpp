@@ -14,10 +14,16 @@ namespace softmc::report {
 
 enum class MoveKind : std::uint8_t { Rapid, Feed, Cut };  // Cut = feed move with the tool on
 
+// A line is kept as its ends (a whole motion::Segment is 1.3 kB, most of it a curve's: a 200 000-line
+// CAM program's moves were 300 MB); arcs and curves as a Segment in ProgrammedPath::curves.
 struct ProgrammedMove {
   std::size_t instruction = 0;  // index into Program::instructions
   MoveKind kind = MoveKind::Feed;
-  motion::Segment segment;
+  bool line = true;
+  core::Vec start, end;
+  core::Vec dir;                // a line's unit direction, as motion::make_line sets it
+  double length = 0;            // mm
+  std::uint32_t curve = 0;      // not a line: its index into ProgrammedPath::curves
   // The segment's bounding box (Segment::bounds: every point of it inside): p's distance from the
   // box is a lower bound of its distance from the segment.
   core::Vec lo, hi;
@@ -34,6 +40,7 @@ struct MoveGroup {
 // instruction.
 struct ProgrammedPath {
   std::vector<ProgrammedMove> moves;                // in program order
+  std::vector<motion::Segment> curves;              // the moves that are not lines (ProgrammedMove::curve)
   std::vector<std::optional<std::size_t>> move_of;  // instruction index → index into moves
   std::vector<std::size_t> moves_upto;              // instruction index → moves of it and before it
   std::vector<core::Vec> before;                    // position when instruction i starts
@@ -48,6 +55,11 @@ struct ProgrammedPath {
   static constexpr std::size_t kReachMoves = 256;
   static constexpr std::size_t kMovesPerGroup = 32;
   std::vector<MoveGroup> groups;  // moves [k·kMovesPerGroup, (k+1)·kMovesPerGroup) in groups[k]
+
+  // The move as a segment (a line's built again, as make_line builds it).
+  motion::Segment segment(const ProgrammedMove& m) const;
+  // Distance of p from the move: Segment::distance_to, a line's without building its Segment.
+  double distance(const ProgrammedMove& m, const core::Vec& p, double enough = 0) const;
 
   // Distance of p from the programmed path around instructions `tag`..`tag_last` (a line the planner
   // merged from several programmed ones stands for all of them). Moving: from those motions'

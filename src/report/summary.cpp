@@ -35,10 +35,10 @@ SummaryBuilder::SummaryBuilder(const program::Program& prog, const machine::Mach
   // Lengths are the programmed ones: what the part needs, not what the planner made of it.
   for (const auto& m : path_.moves) {
     if (m.kind == MoveKind::Rapid) {
-      s_.rapid_mm += m.segment.length;
+      s_.rapid_mm += m.length;
     } else {
-      s_.feed_mm += m.segment.length;
-      if (m.kind == MoveKind::Cut) s_.cut_mm += m.segment.length;
+      s_.feed_mm += m.length;
+      if (m.kind == MoveKind::Cut) s_.cut_mm += m.length;
     }
   }
 }

@@ -349,7 +349,8 @@ void smooth_range(std::span<const Vec> pts, std::size_t a, std::size_t b, const 
 
 }  // namespace
 
-void smooth_polyline(std::span<const Vec> pts, const PolylineSmoothing& settings, std::vector<std::vector<Segment>>& lines) {
+void smooth_polyline(std::span<const Vec> pts, const PolylineSmoothing& settings, std::vector<std::vector<Segment>>& lines,
+                     const std::function<void(std::size_t, std::size_t)>& range_done) {
   // Settings outside their ranges take their defaults: weights must only fall (cut below 1, taper
   // above 0, neither NaN), and knot intervals are between uniform and chord length.
   PolylineSmoothing cfg = settings;
@@ -366,11 +367,10 @@ void smooth_polyline(std::span<const Vec> pts, const PolylineSmoothing& settings
     // Line i ends the run at its end point when the turn there is sharp (or it is the last line).
     const bool corner = i + 1 == n || i + 1 - a >= cfg.max_run_lines ||
                         turn(pts[i], pts[i + 1], pts[i + 2]) > cfg.max_turn_rad;
-    if (short_line) {
-      smooth_range(pts, a, i, cfg, lines);
-      a = i + 1;
-    } else if (corner) {
-      smooth_range(pts, a, i + 1, cfg, lines);
+    if (short_line || corner) {
+      const std::size_t b = short_line ? i : i + 1;
+      smooth_range(pts, a, b, cfg, lines);
+      if (range_done && b > a) range_done(a, b);
       a = i + 1;
     }
   }

@@ -17,6 +17,7 @@
 // would leave it. Exact stops and sharp corners end a run and are planned as usual.
 #pragma once
 
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -46,7 +47,11 @@ struct PolylineSmoothing {
 // an axis that moves less than 1e-9 mm within a Bézier piece, which the piece keeps flat at its
 // start: gaps of up to about a nanometre there (the stop-27 review: 1.3e-9 mm at 2.5 % of random
 // joints, as before; docs/planner.md "Not yet").
-void smooth_polyline(std::span<const Vec> pts, const PolylineSmoothing& cfg, std::vector<std::vector<Segment>>& lines);
+// `range_done(a, b)`, when given, is called as soon as the lines a … b − 1 have their segments (in
+// rising order, each line in one range at most; lines no range covers stay empty): a caller may
+// take them and free them then, so a long run's pieces (1.3 kB each) are not all held at once.
+void smooth_polyline(std::span<const Vec> pts, const PolylineSmoothing& cfg, std::vector<std::vector<Segment>>& lines,
+                     const std::function<void(std::size_t, std::size_t)>& range_done = {});
 
 // Tiny collinear lines of a polyline, for smoothing: `kept` receives the indices of the points that
 // stay (always the first and the last), in order. A point is dropped where it lies within eps_mm of

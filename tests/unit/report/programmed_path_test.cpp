@@ -37,7 +37,7 @@ double brute_force(const report::ProgrammedPath& pp, const core::Vec& p, std::ui
   std::size_t last = first;
   while (last + 1 < pp.moves.size() && pp.moves[last + 1].instruction <= tag) ++last;
   std::vector<double> along{0};
-  for (const auto& m : pp.moves) along.push_back(along.back() + m.segment.length);
+  for (const auto& m : pp.moves) along.push_back(along.back() + m.length);
   const auto reach = report::ProgrammedPath::kReach_mm;
   const auto most = report::ProgrammedPath::kReachMoves;
   double d = std::numeric_limits<double>::infinity();
@@ -45,7 +45,7 @@ double brute_force(const report::ProgrammedPath& pp, const core::Vec& p, std::ui
     const bool near = m + 1 >= first && m <= last + 1;
     const bool before = m + 1 < first && first - 1 - m <= most && along[m] >= along[first] - reach;
     const bool after = m > last + 1 && m - last - 1 <= most && along[m] < along[last + 1] + reach;
-    if (near || before || after) d = std::min(d, pp.moves[m].segment.distance_to(p, 0));
+    if (near || before || after) d = std::min(d, pp.segment(pp.moves[m]).distance_to(p, 0));
   }
   return d;
 }
@@ -65,7 +65,7 @@ TEST(ProgrammedPath, DeviationSearchFindsWhatTryingEveryMoveFinds) {
   for (int k = 0; k < 600; ++k) {
     const std::size_t m = k < 300 ? k * pp.moves.size() / 300 : pick(rng);
     const auto& mv = pp.moves[m];
-    core::Vec p = mv.segment.point(mv.segment.length * (k % 7) / 7.0);
+    core::Vec p = pp.segment(mv).point(mv.length * (k % 7) / 7.0);
     p[0] += off(rng);
     p[1] += off(rng);
     const auto tag = static_cast<std::uint32_t>(mv.instruction);
@@ -90,14 +90,14 @@ TEST(ProgrammedPath, DeviationSearchIsExactOnSpirals) {
   const auto pp = report::programmed_path(*r.program);
   std::vector<std::size_t> arcs;
   for (std::size_t m = 0; m < pp.moves.size(); ++m)
-    if (pp.moves[m].segment.kind == motion::SegmentKind::Arc) arcs.push_back(m);
+    if (pp.segment(pp.moves[m]).kind == motion::SegmentKind::Arc) arcs.push_back(m);
   ASSERT_EQ(arcs.size(), 3u);
-  for (const auto m : arcs) EXPECT_GT(std::abs(pp.moves[m].segment.dradius), 0.1);  // spirals indeed
+  for (const auto m : arcs) EXPECT_GT(std::abs(pp.segment(pp.moves[m]).dradius), 0.1);  // spirals indeed
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> off(-0.5, 0.5);
   for (int k = 0; k < 3000; ++k) {
     const auto& mv = pp.moves[arcs[(k / 7) % 3]];
-    core::Vec p = mv.segment.point(mv.segment.length * ((k * 37) % 1000) / 1000.0);
+    core::Vec p = pp.segment(mv).point(mv.length * ((k * 37) % 1000) / 1000.0);
     p[0] += off(rng);
     p[1] += off(rng);
     const auto tag = static_cast<std::uint32_t>(mv.instruction);
