@@ -58,3 +58,19 @@ TEST(TravelCheck, P9_EveryViolationIsReportedAndMissingAxesToo) {
   EXPECT_EQ(d[3].line, 4u);
   EXPECT_EQ(d[4].message, "the machine has no Z axis");
 }
+
+// The travel check takes the program's pieces one by one as they are built (none kept): a curve
+// that cannot be built is reported after every travel message, and the walk goes on past it from
+// where the curve would have started (as the Channel does), so later motions are still checked.
+TEST(TravelCheck, P9_ACurveThatCannotBeBuiltIsReportedAndTheRestStillChecked) {
+  program::Nurbs bad;
+  bad.ctrl = {xy(10, 10), xy(20, 20)};
+  bad.weights = {1, -1};  // a weight must be positive
+  bad.order = 2;
+  auto p = prog({program::Rapid{xy(10, 10)}, bad, program::Linear{xy(650, 10), 10}});
+  const auto d = control::check_travel(p, table());
+  ASSERT_EQ(d.size(), 2u);
+  EXPECT_EQ(d[0].format(), "part.ngc:3:3: error: X leaves the travel: 650.000 mm > max 600.000 mm");
+  EXPECT_EQ(d[1].line, 2u);
+  EXPECT_NE(d[1].message.find("the curve cannot be built"), std::string::npos) << d[1].message;
+}

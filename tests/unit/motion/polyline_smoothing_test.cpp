@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "motion/geometry/polyline_smoothing.hpp"
@@ -215,6 +216,45 @@ TEST(PolylineSmoothing, LongRunsAreCutIntoBoundedRuns) {
     EXPECT_EQ(lines[i].back().end, pts[i + 1]) << i;
   }
   EXPECT_EQ(lines[1000].front().start, pts[1000]);
+}
+
+// A caller that takes each stretch as it is finished (the Channel, which frees the pieces then, so a
+// long CAM run's 1.3 kB pieces are not all held at once): the stretches come in rising order, never
+// overlap, cover every line that has segments, and hold the same segments as when nothing is taken.
+TEST(PolylineSmoothing, EachStretchIsHandedOverAsSoonAsItIsFinished) {
+  std::vector<Vec> pts;
+  for (int k = 0; k <= 2500; ++k) pts.push_back(Vec{0.25 * k, 5 * std::sin(0.01 * k)});
+  pts[1200][1] += 3;  // two sharp turns end a stretch there
+  pts.insert(pts.begin() + 1700, pts[1699]);  // a zero-length line: kept as programmed
+  PolylineSmoothing cfg;
+  cfg.max_run_lines = 1000;
+  std::vector<std::vector<Segment>> whole, taken;
+  smooth_polyline(pts, cfg, whole);
+  std::vector<std::vector<Segment>> lines;
+  taken.resize(pts.size() - 1);
+  std::size_t next = 0, stretches = 0;
+  smooth_polyline(pts, cfg, lines, [&](std::size_t a, std::size_t b) {
+    EXPECT_GE(a, next);
+    EXPECT_LT(a, b);
+    for (std::size_t i = next; i < a; ++i) EXPECT_TRUE(lines[i].empty()) << i;  // nothing skipped
+    for (std::size_t i = a; i < b; ++i) taken[i] = std::exchange(lines[i], {});
+    next = b;
+    ++stretches;
+  });
+  EXPECT_GE(stretches, 4u);  // cut at 1 000 lines, at the turns and at the zero-length line
+  for (std::size_t i = 0; i < lines.size(); ++i) EXPECT_TRUE(lines[i].empty()) << i;
+  ASSERT_EQ(taken.size(), whole.size());
+  std::size_t pieces = 0;
+  for (std::size_t i = 0; i < whole.size(); ++i) {
+    ASSERT_EQ(taken[i].size(), whole[i].size()) << i;
+    for (std::size_t k = 0; k < whole[i].size(); ++k) {
+      EXPECT_EQ(taken[i][k].start, whole[i][k].start);
+      EXPECT_EQ(taken[i][k].end, whole[i][k].end);
+      EXPECT_EQ(taken[i][k].length, whole[i][k].length);
+      ++pieces;
+    }
+  }
+  EXPECT_GT(pieces, 2000u);
 }
 }  // namespace
 }  // namespace softmc::motion

@@ -104,3 +104,31 @@ TEST(ProgrammedPath, DeviationSearchIsExactOnSpirals) {
     EXPECT_NEAR(pp.deviation_mm(p, tag, tag, true, 0), brute_force(pp, p, tag), 1e-12) << k;
   }
 }
+
+// A line is kept as its ends, not as a 1.3 kB Segment: its distance is Segment::distance_to's to the
+// last bit (the summaries' deviations depend on it), and the move gives back the same segment.
+TEST(ProgrammedPath, ALineKeptAsItsEndsMeasuresAsItsSegment) {
+  auto r = program::iso::parse("G21 G90\nG0 X1 Y2 Z3\nG1 X40.5 Y-7.25 Z3 F600\nG1 X40.5 Y-7.25 Z3\nG1 X-3 Y5 Z9\n"
+                               "G2 X10 Y5 I6.5 J0\nM30\n", "lines.ngc");
+  ASSERT_TRUE(r.program);
+  const auto pp = report::programmed_path(*r.program);
+  std::mt19937_64 rng(28);
+  std::uniform_real_distribution<double> u(-60, 60);
+  int lines = 0, arcs = 0;
+  for (const auto& m : pp.moves) {
+    const motion::Segment seg = pp.segment(m);
+    (m.line ? lines : arcs) += 1;
+    EXPECT_EQ(seg.kind == motion::SegmentKind::Line, m.line);
+    EXPECT_EQ(seg.start, m.start);
+    EXPECT_EQ(seg.end, m.end);
+    EXPECT_EQ(seg.length, m.length);
+    for (int k = 0; k < 200; ++k) {
+      core::Vec p;
+      for (int i = 0; i < 3; ++i) p[static_cast<std::size_t>(i)] = u(rng);
+      EXPECT_EQ(pp.distance(m, p), seg.distance_to(p)) << m.instruction;
+    }
+  }
+  EXPECT_EQ(lines, 4);  // the rapid, two lines and the zero-length one
+  EXPECT_EQ(arcs, 1);
+  EXPECT_EQ(pp.curves.size(), 1u);
+}
