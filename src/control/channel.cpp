@@ -1,6 +1,7 @@
 // Instruction sequencing of a Channel.
 #include "control/channel.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 
@@ -36,10 +37,20 @@ void Channel::load(const program::Program& prog) {
   // smoothed when it closes, before the instruction that closed it adds its own): a Segment is
   // 1.3 kB, and a CAM program's pieces (one a line) held twice over while they were gathered per
   // instruction, with the growth slack of arrays built by appending, were most of a 200 000-line
-  // run's memory. Reserved at about one piece an instruction (a smoothed line's piece, and a stub at
-  // each end of a run), so a CAM program's array is not grown by doubling.
+  // run's memory. With smoothing, reserved at about one piece a line (a smoothed line's piece, and a
+  // stub at each end of a run), so a CAM program's array is not grown by doubling; without, only
+  // arcs and curves give pieces, and nothing is set aside for the lines (a review: 1.4 kB of
+  // address space a line, 1.4 GB for a million, which strict overcommit would refuse).
   std::vector<motion::Segment>().swap(curve_segments_);
-  curve_segments_.reserve(n + n / 16 + 64);
+  const auto& pc = planner_.config();
+  const bool jerk = motion::jerk_mode(planner_.limits());
+  const bool smooth = pc.smoothing_max_turn_rad > 0 && jerk;
+  if (smooth) {
+    const auto lines = static_cast<std::size_t>(std::count_if(prog.instructions.begin(), prog.instructions.end(), [](const auto& ins) {
+      return std::holds_alternative<program::Linear>(ins.op);
+    }));
+    curve_segments_.reserve(lines + lines / 16 + 64);
+  }
   curve_first_.assign(n + 1, 0);
   std::size_t first_set = 0;  // curve_first_ is set for instructions below this
   const auto add_pieces = [&](std::size_t i, auto begin, auto end) {
@@ -51,9 +62,6 @@ void Channel::load(const program::Program& prog) {
   core::Vec at = prog.start;
   std::vector<motion::Segment> tmp;
   // Jerk mode: runs of short lines become curvature-continuous B-splines (polyline_smoothing.hpp).
-  const auto& pc = planner_.config();
-  const bool jerk = motion::jerk_mode(planner_.limits());
-  const bool smooth = pc.smoothing_max_turn_rad > 0 && jerk;
   double tol = -1;  // as PathMode sets it in update()
   std::vector<core::Vec> run_pts;
   std::vector<std::size_t> run_ins;
