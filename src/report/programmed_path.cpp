@@ -95,11 +95,7 @@ motion::Segment ProgrammedPath::segment(const ProgrammedMove& m) const {
 }
 
 double ProgrammedPath::distance(const ProgrammedMove& m, const core::Vec& p, double enough) const {
-  if (!m.line) return curves[m.curve].distance_to(p, enough);
-  // Segment::distance_to of a line, in its arithmetic.
-  if (m.length <= 0) return core::distance(p, m.start);
-  const double t = std::clamp(core::dot(p - m.start, m.dir), 0.0, m.length);
-  return core::distance(p, m.start + m.dir * t);
+  return m.line ? motion::line_distance(m.start, m.dir, m.length, p) : curves[m.curve].distance_to(p, enough);
 }
 
 std::pair<std::size_t, std::size_t> ProgrammedPath::moves_around(std::uint32_t tag, std::uint32_t tag_last) const {

@@ -246,12 +246,15 @@ Vec Segment::curvature(double s) const {
   return arc_curvature(*this, arc_at(*this, s));
 }
 
+// rt-safe
+double line_distance(const Vec& start, const Vec& dir, double length, const Vec& p) {
+  if (length <= 0) return core::distance(p, start);
+  const double t = std::clamp(core::dot(p - start, dir), 0.0, length);
+  return core::distance(p, start + dir * t);
+}
+
 double Segment::distance_to(const Vec& p, double enough) const {
-  if (kind == SegmentKind::Line) {
-    if (length <= 0) return core::distance(p, start);
-    const double t = std::clamp(core::dot(p - start, dir), 0.0, length);
-    return core::distance(p, start + dir * t);
-  }
+  if (kind == SegmentKind::Line) return line_distance(start, dir, length, p);
   if (kind == SegmentKind::Poly) return poly.distance_to(p, enough);
   // Arc/helix: the parameter is found from the in-plane angle, unwrapped to each turn of the sweep,
   // then refined by Newton steps on the squared distance (helix pitch couples them). Every candidate

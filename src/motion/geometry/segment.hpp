@@ -91,6 +91,11 @@ struct Segment {
   ArcBounds arc_bounds() const;
 };
 
+// Distance of p from the line start + dir·t, t ∈ [0, length] (dir a unit vector): Segment::distance_to
+// of a line, also for holders of a line's ends that do not keep a whole Segment (report::ProgrammedMove).
+// rt-safe.
+double line_distance(const Vec& start, const Vec& dir, double length, const Vec& p);
+
 Segment make_line(const Vec& start, const Vec& end);
 // The same line written into `s` in place, every field make_line sets; `s.poly` is left as it is (a
 // line never reads it). For the Channel, which would otherwise build and copy a whole Segment
