@@ -509,8 +509,8 @@ double PolyCurve::finalize(bool estimate) {
   fill_speed2(*this);
   s_at[0] = 0;
   double err = 0, d8 = 0;
-  // (|C'| as param_at takes it: unrolled for a polynomial's degree, a third of the load's
-  // instructions less on smoothed CAM runs than SpeedEval's loop, the same values.)
+  // (|C'| as param_at takes it: unrolled for a polynomial's degree, the same values as SpeedEval's
+  // loop for fewer instructions.)
   with_speed(*this, [&](const auto& speed_at) {
     for (std::size_t k = 0; k < kArcTableIntervals; ++k) {
       const double a = k * kH, b = (k + 1) * kH, m = 0.5 * (a + b);
@@ -561,7 +561,8 @@ double PolyCurve::finalize(bool estimate) {
   const std::size_t m = n_moving;
   // The samples keep C', C'', T and κ on the moving axes only, by their rank j (axis ax[j]), with
   // tangent_curvature's arithmetic in its order: the same values as evaluating the curve and
-  // calling it, without the nine-axis temporaries (half of a smoothed CAM run's load).
+  // calling it, without the nine-axis temporaries (with the unrolled |C'| above, a smoothed piece's
+  // construction went 194 000 → 98 000 instructions: callgrind on a 20 000-line raster).
   // C' and C'' at u: a polynomial cubic (the smoothing's pieces, by far the most built) takes
   // bezier_derivs' own expressions with the control differences taken once; other curves derivs(u).
   const bool cubic = polynomial && degree == 3;
