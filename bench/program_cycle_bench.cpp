@@ -5,7 +5,13 @@
 // cycle costs; the 99.9th percentile and the maximum are what a real-time period must leave room
 // for. One iteration runs the whole program (17–56 s of machine time).
 #include <benchmark/benchmark.h>
+#include <linux/perf_event.h>
+#include <sys/syscall.h>
 #include <time.h>
+#include <unistd.h>
+
+#include <cstdint>
+#include <cstring>
 
 #include <algorithm>
 #include <array>
@@ -45,6 +51,21 @@ double cpu_us() {
   return 1e6 * static_cast<double>(t.tv_sec) + 1e-3 * static_cast<double>(t.tv_nsec);
 }
 
+// The page faults this thread has taken (a software counter the kernel keeps: no hardware counter
+// needed), or -1 where perf events are not allowed.
+int open_page_faults() {
+  perf_event_attr a{};
+  a.type = PERF_TYPE_SOFTWARE;
+  a.size = sizeof a;
+  a.config = PERF_COUNT_SW_PAGE_FAULTS;
+  return static_cast<int>(syscall(SYS_perf_event_open, &a, 0, -1, -1, 0));
+}
+double read_count(int fd) {
+  std::uint64_t v = 0;
+  if (fd < 0 || read(fd, &v, sizeof v) != sizeof v) return 0;
+  return static_cast<double>(v);
+}
+
 // Args: the program (index into kPrograms), jerk limits (0: trapezoids, 1: 10 000 mm/s³).
 void BM_ProgramCycle(benchmark::State& state) {
   const std::string name = kPrograms[static_cast<std::size_t>(state.range(0))];
@@ -57,17 +78,22 @@ void BM_ProgramCycle(benchmark::State& state) {
     return;
   }
   const program::Program prog = std::move(*parsed.program);
-  std::vector<double> us;
+  std::vector<double> us, faults;
   us.reserve(4'000'000);
+  faults.reserve(us.capacity());
+  const int pf = open_page_faults();
   for (auto _ : state) {
     state.PauseTiming();
     us.clear();
+    faults.clear();
     app::Simulation sim(prog, cfg);
     state.ResumeTiming();
     while (!sim.finished() && !sim.faulted() && us.size() < us.capacity()) {
+      const double f0 = read_count(pf);
       const double t0 = cpu_us();
       sim.step();
       us.push_back(cpu_us() - t0);
+      faults.push_back(read_count(pf) - f0);
     }
     if (!sim.finished()) state.SkipWithError((name + " did not finish").c_str());
   }
@@ -85,6 +111,13 @@ void BM_ProgramCycle(benchmark::State& state) {
   // Which cycle it was (the first ~30 fill the window), to find it again (callgrind, a trace).
   state.counters["max_cycle"] =
       us.empty() ? 0.0 : static_cast<double>(std::max_element(us.begin(), us.end()) - us.begin());
+  if (pf >= 0) {
+    double total = 0;
+    for (double f : faults) total += f;
+    state.counters["faults"] = total;
+    state.counters["faults_max_cycle"] = faults.empty() ? 0.0 : faults[static_cast<std::size_t>(state.counters["max_cycle"])];
+    close(pf);
+  }
 }
 BENCHMARK(BM_ProgramCycle)->ArgsProduct({{0, 1, 2, 3}, {0, 1}})->Iterations(1)->Unit(benchmark::kMillisecond);
 

@@ -302,6 +302,9 @@ void Channel::update(double dt_s) {
   const auto& ins = prog_->instructions;
   curves_at_cycle_ = planner_.curves_tried();
   blocks_at_cycle_ = planner_.blocks_committed();
+  const std::uint64_t pops = planner_.queue().ring().pops();
+  blocks_this_cycle_ = std::min(kMaxBlocksPerCycle, kFillBlocksPerCycle + 2 * (pops - pops_at_cycle_));
+  pops_at_cycle_ = pops;
   for (int budget = kMaxInstructionsPerCycle; budget > 0 && pc_ < ins.size(); --budget) {
     const program::Op& op = ins[pc_].op;
     if (const auto* pm = std::get_if<program::PathMode>(&op)) {

@@ -30,6 +30,12 @@ class Channel {
   // Blocks the planner may commit in one cycle (a line, arc or spline piece, a blend: about 0.5 µs
   // each on lines, several on spline pieces).
   static constexpr std::uint64_t kMaxBlocksPerCycle = 64;
+  // What a cycle may commit is kFillBlocksPerCycle plus twice the blocks the path passed in the
+  // cycle before, up to kMaxBlocksPerCycle: a window filling while the path is at rest or slow (a
+  // program's start, after every stop) fills over a dozen cycles instead of taking the whole 64 in
+  // its first one or two (the worst cycles of a run were those: BM_ProgramCycle), while a path
+  // that passes many short blocks a cycle gets its 64 again one cycle later.
+  static constexpr std::uint64_t kFillBlocksPerCycle = 16;
   // Curves the planner may try in one cycle (corner quintics, curve blends, fillets: each one's fit
   // or search, 60–800 µs of CPU, taken or not: Planner::curves_tried), checked before each push (one
   // push tries at most four): the planning work of a cycle stays bounded however many sharp corners
@@ -94,7 +100,7 @@ class Channel {
   // kMaxBlocksPerCycle blocks committed, since it began).
   bool planning_spent() const {
     return planner_.curves_tried() - curves_at_cycle_ >= kMaxCurvesPerCycle ||
-           planner_.blocks_committed() - blocks_at_cycle_ >= kMaxBlocksPerCycle;
+           planner_.blocks_committed() - blocks_at_cycle_ >= blocks_this_cycle_;
   }
 
   motion::Planner& planner_;
@@ -127,6 +133,8 @@ class Channel {
   std::uint32_t curve_next_ = 0;           // next segment of the current curve to push
   std::uint64_t curves_at_cycle_ = 0;      // planner_.curves_tried() when this cycle's update began
   std::uint64_t blocks_at_cycle_ = 0;      // planner_.blocks_committed() likewise
+  std::uint64_t blocks_this_cycle_ = kMaxBlocksPerCycle;  // this cycle's bound (kFillBlocksPerCycle)
+  std::uint64_t pops_at_cycle_ = 0;        // the window's pops when the cycle before began
   std::vector<std::uint8_t> precomputed_;     // per instruction: a line replaced by smoothing segments,
                                            // or an arc cut into pieces (pushed like a curve's), or
                                            // kAbsorbed: a thinned line the leg before it runs
