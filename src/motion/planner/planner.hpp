@@ -175,7 +175,7 @@ class Planner {
   PlanResult emit_stage();
   void commit(const Block& b);
   void dense_cap(Block& b);  // see kDenseBlocks
-  // A Poly block entered or left at rest gets the limits of the speed it can reach (see planner.cpp).
+  // A Poly block entered or left at rest gets the limits of the speed it can reach (see planner_stops.cpp).
   bool limit_to_reach(Block& b, bool from_rest, double d_more, double a_more, double j_more) const;
   bool relimit(const Block& b, double c, double a0, double j0, double& A, double& J, SegmentLimits* out = nullptr) const;
   // Since the last rest point: distance, largest acceleration and jerk (−1: too far to matter).

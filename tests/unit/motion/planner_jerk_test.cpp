@@ -1172,7 +1172,7 @@ TEST(PlannerJerk, AStepCutAtAnInstantLiesOnThePhasesItRan) {
 
 // On a circle in its plane each axis sees the path's tangential jerk (less v³κ²) and 3·v·a_t·κ one
 // phase apart, so its jerk is their Euclidean sum, not the plain one: the arc's shares of j_max
-// (⅖ tangential, ⅕ v³κ², ⅖ 3·v·a_t·κ) are scaled by 1/√(0.6² + 0.4²) = 1.387 (planner.cpp
+// (⅖ tangential, ⅕ v³κ², ⅖ 3·v·a_t·κ) are scaled by 1/√(0.6² + 0.4²) = 1.387 (segment_limits.cpp
 // curve_jerk). An R5 circle at 10 000 mm/s³ runs at 41.1 mm/s instead of 36.8, every axis within its
 // jerk in the trace; a helix (the tangent leaves the plane) and a spiral keep the plain sum.
 TEST(PlannerJerk, PlaneCirclesUseTheWholeJerkBudget) {
@@ -1436,7 +1436,7 @@ static std::vector<PathRequest> plane_chain(std::mt19937_64& rng, std::uniform_r
   return reqs;
 }
 
-// Plane circles take their jerk shares scaled to the Euclidean bound (1.387, planner.cpp
+// Plane circles take their jerk shares scaled to the Euclidean bound (1.387, segment_limits.cpp
 // curve_jerk), and a curvature step at their ends takes its share off their tangential jerk by
 // jerk_left_by_step: chains of lines, arcs and full circles in the xy, xz and yz planes, at 1 ms and
 // 0.25 ms cycles, with the override changed now and then, keep every axis within its speed,
