@@ -61,7 +61,7 @@ struct InterpolatorConfig {
   bool guard_simulate = false;
   int guard_short_brake_cycles = 10;
   // Jerk mode: where the certificate cannot decide, its gated form (two ramps: to the speed a block
-  // of far lower acceleration allows at its start, then to rest from there; jerk_guard.cpp) first.
+  // of far lower acceleration allows at its start, then to rest from there; jerk_certificate.cpp) first.
   bool guard_gate = true;
   // ... with a block of far lower jerk (half the least before it) as a gate too, where the plain
   // certificate's ramp or π's scan reaches one (false: acceleration gates only; tests).

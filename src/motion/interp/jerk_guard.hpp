@@ -271,4 +271,21 @@ class JerkGuard {
   double base_ = 0;    // distance from the index's origin to now: start(k) = g_.start[o_ + k] − base_
 };
 
+// (Inline: both of the guard's files call them in its walks, jerk_guard.cpp and jerk_certificate.cpp.)
+// rt-safe
+inline void JerkGuard::index_through(std::size_t k) const {
+  const std::size_t last = std::min(k, n_ - 1);
+  while (built() <= last) index_block();
+}
+
+inline bool JerkGuard::fail(GuardVerdict& v, bool hard, double at, double u, bool stop) const {
+  if (!v.failed()) {
+    v.fail_at_mm = at;
+    v.fail_u_mm_s = u;
+    v.stop_binds = stop;
+  }
+  (hard ? v.hard_ok : v.soft_ok) = false;
+  return false;
+}
+
 }  // namespace softmc::motion
