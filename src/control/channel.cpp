@@ -33,15 +33,15 @@ void Channel::load(const program::Program& prog) {
   curve_next_ = 0;
   // Curves are built from where the program's previous motion ends: walk the programmed geometry.
   const auto n = prog.instructions.size();
-  // Each instruction's pieces go straight into one array, in program order (a run's lines are
-  // smoothed when it closes, before the instruction that closed it adds its own): a Segment is
-  // 1.3 kB, and a CAM program's pieces (one a line) held twice over while they were gathered per
-  // instruction, with the growth slack of arrays built by appending, were most of a 200 000-line
-  // run's memory. With smoothing, reserved at about one piece a line (a smoothed line's piece, and a
-  // stub at each end of a run), so a CAM program's array is not grown by doubling; without, only
-  // arcs and curves give pieces, and nothing is set aside for the lines (a review: 1.4 kB of
-  // address space a line, 1.4 GB for a million, which strict overcommit would refuse).
-  std::vector<motion::Segment>().swap(curve_segments_);
+  // Each instruction's pieces go straight into one compact store, in program order (a run's lines
+  // are smoothed when it closes, before the instruction that closed it adds its own): a Segment is
+  // 1.5 kB, and a CAM program's pieces (one a line) were most of a 200 000-line run's memory; the
+  // store keeps what each piece's kind uses, on its axes only (about 590 bytes for a cubic on three
+  // axes). With smoothing, reserved at about one piece a line (a smoothed line's piece, and a stub
+  // at each end of a run), so a CAM program's store is not grown by doubling; without, only arcs
+  // and curves give pieces, and nothing is set aside for the lines (a review: address space a line
+  // that strict overcommit would refuse for a million).
+  curve_segments_.clear();
   const auto& pc = planner_.config();
   const bool jerk = motion::jerk_mode(planner_.limits());
   const bool smooth = pc.smoothing_max_turn_rad > 0 && jerk;
@@ -49,13 +49,13 @@ void Channel::load(const program::Program& prog) {
     const auto lines = static_cast<std::size_t>(std::count_if(prog.instructions.begin(), prog.instructions.end(), [](const auto& ins) {
       return std::holds_alternative<program::Linear>(ins.op);
     }));
-    curve_segments_.reserve(lines + lines / 16 + 64);
+    curve_segments_.reserve(lines + lines / 16 + 64, kPieceBytes);
   }
   curve_first_.assign(n + 1, 0);
   std::size_t first_set = 0;  // curve_first_ is set for instructions below this
   const auto add_pieces = [&](std::size_t i, auto begin, auto end) {
     for (; first_set <= i; ++first_set) curve_first_[first_set] = static_cast<std::uint32_t>(curve_segments_.size());
-    curve_segments_.insert(curve_segments_.end(), begin, end);
+    for (auto it = begin; it != end; ++it) curve_segments_.push_back(*it);
   };
   curve_error_.assign(n, nullptr);
   precomputed_.assign(n, 0);
@@ -171,8 +171,7 @@ bool Channel::push_curve(int& budget) {
   while (tag_last + 1 < precomputed_.size() && precomputed_[tag_last + 1] == kAbsorbed) ++tag_last;
   while (first + curve_next_ < last) {
     if (planner_.queue().full() || budget <= 0 || planning_spent()) return false;
-    const auto& seg = curve_segments_[first + curve_next_];
-    req_.geom = seg;
+    curve_segments_.get(first + curve_next_, req_.geom);
     // Not mergeable: a smoothed run's stubs keep the direction their spline leaves along. Its
     // pieces lie up to smoothing_share·P off the lines they replace: a blend at the run's ends
     // keeps to the rest of P (a stub into a tangent arc went 1.28·P off the program before).
@@ -183,7 +182,7 @@ bool Channel::push_curve(int& budget) {
       fail(motion::to_string(r), r);
       return false;
     }
-    plan_pos_ = seg.end;
+    plan_pos_ = req_.geom.end;
     ++curve_next_;
     --budget;
   }

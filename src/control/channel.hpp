@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "control/motion_signals.hpp"
+#include "motion/geometry/segment_store.hpp"
 #include "motion/interp/interpolator.hpp"
 #include "motion/planner/planner.hpp"
 #include "program/ir/program.hpp"
@@ -48,6 +49,8 @@ class Channel {
   // circle of 2 µm chords printed to 4 decimals ran 48 % slower on them (the rounding is curvature
   // noise on short pieces): 1.75 s, as unthinned, with 50 µm; 2.58 s with 20 µm.
   static constexpr double kThinLeg_mm = 0.05;
+  // What a smoothed piece takes in the SegmentStore: a cubic on three axes is about 590 bytes.
+  static constexpr std::size_t kPieceBytes = 600;
   static constexpr std::size_t kMaxThinned = 64;
 
   Channel(motion::Planner& planner, motion::Interpolator& interp) : planner_(planner), interp_(interp) {}
@@ -127,7 +130,7 @@ class Channel {
   bool override_enabled_ = true;  // M48 (on) / M49 (off: the programmed feed, whatever the override)
   // Precomputed curve segments: curve_first_[i] .. curve_first_[i + 1] are instruction i's
   // (sized at load, one entry per instruction plus one).
-  std::vector<motion::Segment> curve_segments_;
+  motion::SegmentStore curve_segments_;  // compact: a third of a Segment's 1.5 kB a piece
   std::vector<std::uint32_t> curve_first_;
   std::vector<const char*> curve_error_;  // per instruction: why its curve could not be built, or null
   std::uint32_t curve_next_ = 0;           // next segment of the current curve to push
