@@ -141,8 +141,10 @@ Scene make_scene(const program::Program& prog, const machine::MachineConfig& cfg
   s.all.add(prog.start[s.ax0], prog.start[s.ax1]);
   for (const auto& m : s.path.moves) {
     Box& b = m.kind == MoveKind::Rapid ? s.all : s.part;
-    b.add(m.lo[s.ax0], m.lo[s.ax1]);
-    b.add(m.hi[s.ax0], m.hi[s.ax1]);
+    core::Vec lo, hi;
+    s.path.box(m, lo, hi);
+    b.add(lo[s.ax0], lo[s.ax1]);
+    b.add(hi[s.ax0], hi[s.ax1]);
   }
   for (const auto& r : trace.rows) (r.moving && !r.rapid ? s.part : s.all).add(r.cmd[s.ax0], r.cmd[s.ax1]);
   s.all.add(s.part);

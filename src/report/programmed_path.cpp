@@ -26,8 +26,7 @@ ProgrammedPath programmed_path(const program::Program& prog) {
   const std::size_t n = prog.instructions.size();
   pp.move_of.resize(n);
   pp.moves_upto.resize(n);
-  pp.before.resize(n);
-  pp.after.resize(n);
+  pp.at.resize(n + 1);
   pp.start = prog.start;
   pp.moves.reserve(n);  // one move an instruction, most of them
   // The same geometry the channel plans (curves expanded into several pieces), taken piece by piece
@@ -39,11 +38,8 @@ ProgrammedPath programmed_path(const program::Program& prog) {
   std::size_t next = 0;  // the next instruction to begin
   const auto begin_through = [&](std::size_t i) {
     for (; next <= i; ++next) {
-      if (next > 0) {
-        pp.after[next - 1] = pos;
-        pp.moves_upto[next - 1] = pp.moves.size();
-      }
-      pp.before[next] = pos;
+      if (next > 0) pp.moves_upto[next - 1] = pp.moves.size();
+      pp.at[next] = pos;
       if (const auto* t = std::get_if<program::ToolSwitch>(&prog.instructions[next].op)) tool_on = t->on;
     }
   };
@@ -58,10 +54,12 @@ ProgrammedPath programmed_path(const program::Program& prog) {
     m.end = seg.end;
     m.dir = seg.dir;
     m.length = seg.length;
-    seg.bounds(m.lo, m.hi);
     if (!m.line) {
       m.curve = static_cast<std::uint32_t>(pp.curves.size());
       pp.curves.push_back(seg);
+      MoveGroup b;
+      seg.bounds(b.lo, b.hi);
+      pp.curve_box.push_back(b);
     }
     pos = seg.end;
     if (!pp.move_of[i]) pp.move_of[i] = pp.moves.size();
@@ -69,7 +67,7 @@ ProgrammedPath programmed_path(const program::Program& prog) {
   });
   if (n > 0) {  // the rest, none with motion, and the last one's end
     begin_through(n - 1);
-    pp.after[n - 1] = pos;
+    pp.at[n] = pos;
     pp.moves_upto[n - 1] = pp.moves.size();
   }
   pp.end = pos;
@@ -79,15 +77,31 @@ ProgrammedPath programmed_path(const program::Program& prog) {
   for (std::size_t g = 0; g * ProgrammedPath::kMovesPerGroup < pp.moves.size(); ++g) {
     const std::size_t a = g * ProgrammedPath::kMovesPerGroup;
     const std::size_t b = std::min(pp.moves.size(), a + ProgrammedPath::kMovesPerGroup);
-    MoveGroup grp{pp.moves[a].lo, pp.moves[a].hi};
-    for (std::size_t m = a + 1; m < b; ++m)
+    MoveGroup grp;
+    pp.box(pp.moves[a], grp.lo, grp.hi);
+    for (std::size_t m = a + 1; m < b; ++m) {
+      core::Vec lo, hi;
+      pp.box(pp.moves[m], lo, hi);
       for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
-        grp.lo[i] = std::min(grp.lo[i], pp.moves[m].lo[i]);
-        grp.hi[i] = std::max(grp.hi[i], pp.moves[m].hi[i]);
+        grp.lo[i] = std::min(grp.lo[i], lo[i]);
+        grp.hi[i] = std::max(grp.hi[i], hi[i]);
       }
+    }
     pp.groups.push_back(grp);
   }
   return pp;
+}
+
+void ProgrammedPath::box(const ProgrammedMove& m, core::Vec& lo, core::Vec& hi) const {
+  if (!m.line) {
+    lo = curve_box[m.curve].lo;
+    hi = curve_box[m.curve].hi;
+    return;
+  }
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i) {  // as Segment::bounds takes a line's
+    lo[i] = std::min(m.start[i], m.end[i]);
+    hi[i] = std::max(m.start[i], m.end[i]);
+  }
 }
 
 motion::Segment ProgrammedPath::segment(const ProgrammedMove& m) const {
@@ -125,7 +139,9 @@ double ProgrammedPath::nearest_move_mm(const core::Vec& p, std::pair<std::size_t
   std::size_t best_m = hint_;
   const auto try_move = [&](std::size_t m) {
     const auto& mv = moves[m];
-    if (box_distance(p, mv.lo, mv.hi) >= best) return;
+    core::Vec lo, hi;
+    box(mv, lo, hi);
+    if (box_distance(p, lo, hi) >= best) return;
     const double d = distance(mv, p, enough);
     if (d < best) best = d, best_m = m;
   };
@@ -141,14 +157,14 @@ double ProgrammedPath::nearest_move_mm(const core::Vec& p, std::pair<std::size_t
 }
 
 double ProgrammedPath::deviation_mm(const core::Vec& p, std::uint32_t tag, std::uint32_t tag_last, bool moving, double enough) const {
-  if (tag >= before.size()) return core::distance(p, end);
+  if (tag + 1 >= at.size()) return core::distance(p, end);
   // The segments of every piece of the instructions (a curve has several) and of the motions on
   // either side: a corner blend belongs to both, and a smoothing piece reaches into the line before.
   const auto from_moves = [&] { return nearest_move_mm(p, moves_around(tag, tag_last), enough); };
   if (moving && move_of[tag]) return from_moves();
   // At rest: where the instruction began or ended; a merged line ends where its last one does.
-  const std::uint32_t last = std::max(tag, tag_last) < after.size() ? std::max(tag, tag_last) : tag;
-  return std::min({core::distance(p, before[tag]), core::distance(p, after[tag]), core::distance(p, after[last])});
+  const std::uint32_t last = std::max(tag, tag_last) + 1 < at.size() ? std::max(tag, tag_last) : tag;
+  return std::min({core::distance(p, before(tag)), core::distance(p, after(tag)), core::distance(p, after(last))});
 }
 
 }  // namespace softmc::report

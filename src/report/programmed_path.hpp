@@ -24,13 +24,11 @@ struct ProgrammedMove {
   core::Vec dir;                // a line's unit direction, as motion::make_line sets it
   double length = 0;            // mm
   std::uint32_t curve = 0;      // not a line: its index into ProgrammedPath::curves
-  // The segment's bounding box (Segment::bounds: every point of it inside): p's distance from the
-  // box is a lower bound of its distance from the segment.
-  core::Vec lo, hi;
+  // (Its bounding box is ProgrammedPath::box: a line's from its ends, a curve's kept with it.)
 };
 
-// The bounding box of kMovesPerGroup consecutive moves (the deviation search skips the group where
-// its box is farther than the nearest move found so far).
+// A bounding box: of a curve (Segment::bounds), or of kMovesPerGroup consecutive moves (the deviation
+// search skips the group where its box is farther than the nearest move found so far).
 struct MoveGroup {
   core::Vec lo, hi;
 };
@@ -41,10 +39,14 @@ struct MoveGroup {
 struct ProgrammedPath {
   std::vector<ProgrammedMove> moves;                // in program order
   std::vector<motion::Segment> curves;              // the moves that are not lines (ProgrammedMove::curve)
+  std::vector<MoveGroup> curve_box;                 // their bounding boxes (Segment::bounds)
   std::vector<std::optional<std::size_t>> move_of;  // instruction index → index into moves
   std::vector<std::size_t> moves_upto;              // instruction index → moves of it and before it
-  std::vector<core::Vec> before;                    // position when instruction i starts
-  std::vector<core::Vec> after;                     // position when instruction i has finished
+  // Position when instruction i starts (at[i]) and when it has finished (at[i + 1]: where the next
+  // one starts), i < the number of instructions.
+  std::vector<core::Vec> at;
+  const core::Vec& before(std::size_t i) const { return at[i]; }
+  const core::Vec& after(std::size_t i) const { return at[i + 1]; }
   core::Vec start, end;
   std::vector<double> along_mm;  // path length from the start to the start of each move (and the end)
   // A setpoint on a smoothing piece may lie on moves a little before or after the instructions it
@@ -56,6 +58,9 @@ struct ProgrammedPath {
   static constexpr std::size_t kMovesPerGroup = 32;
   std::vector<MoveGroup> groups;  // moves [k·kMovesPerGroup, (k+1)·kMovesPerGroup) in groups[k]
 
+  // The move's bounding box (every point of it inside: p's distance from the box is a lower bound of
+  // its distance from the move), as Segment::bounds gives it.
+  void box(const ProgrammedMove& m, core::Vec& lo, core::Vec& hi) const;
   // The move as a segment (a line's built again, as make_line builds it).
   motion::Segment segment(const ProgrammedMove& m) const;
   // Distance of p from the move: Segment::distance_to, a line's without building its Segment.
