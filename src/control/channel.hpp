@@ -51,6 +51,8 @@ class Channel {
   static constexpr double kThinLeg_mm = 0.05;
   // What a smoothed piece takes in the SegmentStore: a cubic on three axes is about 590 bytes.
   static constexpr std::size_t kPieceBytes = 600;
+  // Runs of lines smoothed at once ahead of the one whose pieces are taken next (load).
+  static constexpr std::size_t kRunsAhead = 16;
   static constexpr std::size_t kMaxThinned = 64;
 
   Channel(motion::Planner& planner, motion::Interpolator& interp) : planner_(planner), interp_(interp) {}
@@ -60,6 +62,9 @@ class Channel {
   // a curve that cannot be built faults the channel when the program reaches it. With jerk limits,
   // runs of short lines are smoothed here too (PlannerConfig::smoothing_max_turn_rad).
   void load(const program::Program& prog);
+  // Not rt: threads load() smooths runs of lines on (0: one a hardware thread; the pieces are the
+  // same whatever the count).
+  void set_load_threads(std::size_t n) { load_threads_ = n; }
   // rt-safe: start from the first instruction (Idle or Finished), planning from `from`. Curves,
   // smoothed runs and arc pieces were built at load from the program's start point: `from` must be
   // that point (the applications pass it).
@@ -142,6 +147,7 @@ class Channel {
                                            // or an arc cut into pieces (pushed like a curve's), or
                                            // kAbsorbed: a thinned line the leg before it runs
   static constexpr std::uint8_t kAbsorbed = 2;
+  std::size_t load_threads_ = 0;
 };
 
 }  // namespace softmc::control

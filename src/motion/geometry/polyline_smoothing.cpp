@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 
+#include "core/ordered_parallel.hpp"
 #include "motion/geometry/bezier.hpp"
 
 namespace softmc::motion {
@@ -361,6 +362,12 @@ void smooth_polyline(std::span<const Vec> pts, const PolylineSmoothing& settings
   const std::size_t n = pts.size() < 2 ? 0 : pts.size() - 1;
   lines.assign(n, {});
   if (!(cfg.tolerance_mm > 0)) return;
+  // The stretches, each smoothed on its own: lines [a, b) up to a sharp turn, a short line or
+  // max_run_lines.
+  struct Stretch {
+    std::size_t a, b;
+  };
+  std::vector<Stretch> stretches;
   std::size_t a = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const bool short_line = !(core::distance(pts[i], pts[i + 1]) > cfg.min_length_mm);
@@ -368,12 +375,18 @@ void smooth_polyline(std::span<const Vec> pts, const PolylineSmoothing& settings
     const bool corner = i + 1 == n || i + 1 - a >= cfg.max_run_lines ||
                         turn(pts[i], pts[i + 1], pts[i + 2]) > cfg.max_turn_rad;
     if (short_line || corner) {
-      const std::size_t b = short_line ? i : i + 1;
-      smooth_range(pts, a, b, cfg, lines);
-      if (range_done && b > a) range_done(a, b);
+      stretches.push_back({a, short_line ? i : i + 1});
       a = i + 1;
     }
   }
+  // Each stretch is smoothed on its own (it writes its own lines only: the same pieces on any
+  // thread), several at once, and handed over in order.
+  core::ordered_parallel(
+      stretches.size(), cfg.threads, 2 * std::max<std::size_t>(1, cfg.threads),
+      [&](std::size_t k) { smooth_range(pts, stretches[k].a, stretches[k].b, cfg, lines); },
+      [&](std::size_t k) {
+        if (range_done && stretches[k].b > stretches[k].a) range_done(stretches[k].a, stretches[k].b);
+      });
 }
 
 void thin_polyline(std::span<const Vec> pts, double eps_mm, double max_leg_mm, std::size_t max_dropped,

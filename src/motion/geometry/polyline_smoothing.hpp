@@ -39,6 +39,9 @@ struct PolylineSmoothing {
   // of split_min_length_mm, split_depth halvings at most; depth 0 = never.
   double split_min_length_mm = 0.25;
   int split_depth = 4;
+  // Threads smoothing a polyline's stretches (up to sharp turns, max_run_lines) at once: 0 = one a
+  // hardware thread. The pieces are the same whatever the count.
+  std::size_t threads = 0;
 };
 
 // For the polyline pts[0..n] (n lines): `lines[i]` receives the segments that replace line i

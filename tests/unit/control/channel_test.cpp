@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <random>
 #include <vector>
 
 #include "control/channel.hpp"
@@ -195,6 +196,74 @@ TEST(Channel, AWindowFillingAtRestFillsOverSeveralCycles) {
   // 200 000 mm/s² at both ends: the window never held the path back.
   const double ideal_s = n * kChord / kFeed + kFeed / 200000.0;
   EXPECT_LT(cycles * 0.001, 1.05 * ideal_s);
+}
+
+// load() smooths a program's runs of lines on several threads at once and takes their pieces in
+// program order: runs of many sizes (one line, a few, hundreds) between G5 curves, arcs, feed
+// changes and exact stops run to the same setpoints, bit for bit, on 1, 2 and 5 threads.
+TEST(Channel, RunsSmoothedOnSeveralThreadsRunTheSame) {
+  std::mt19937_64 rng(2905);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<program::Op> ops;
+  core::Vec p;
+  double heading = 0;
+  for (int run = 0; run < 40; ++run) {
+    const int lines = run % 7 == 0 ? 1 : run % 5 == 0 ? 300 : 3 + run;
+    const double feed = run % 3 == 0 ? 40 : 60;
+    for (int k = 0; k < lines; ++k) {
+      heading += 0.08 * u(rng);
+      p[0] += 0.2 * std::cos(heading);
+      p[1] += 0.2 * std::sin(heading);
+      ops.push_back(program::Linear{p, feed});
+    }
+    if (run % 4 == 1) {  // a G5 curve closes the run
+      program::Bezier b;
+      b.ctrl1 = p + xy(0.5, 0.2);
+      b.ctrl2 = p + xy(1.0, -0.2);
+      b.end = p + xy(1.5, 0.1);
+      b.feed_mm_s = feed;
+      ops.push_back(b);
+      p = b.end;
+    } else if (run % 4 == 2) {  // an arc
+      program::Arc a;
+      a.end = p + xy(2, 0);
+      a.center0 = p[0] + 1;
+      a.center1 = p[1];
+      a.turns = -1;
+      a.feed_mm_s = feed;
+      ops.push_back(a);
+      p = a.end;
+    } else if (run % 4 == 3) {
+      ops.push_back(program::Dwell{0.01});
+    }
+  }
+  ops.push_back(program::ProgramEnd{});
+  auto prog_ = prog(ops);
+  motion::MachineLimits lim;
+  for (int i = 0; i < 2; ++i) lim.axis[i] = {100, 1000, 10000, -500, 500};
+  std::vector<std::vector<core::Vec>> runs;
+  for (const std::size_t threads : {1u, 2u, 5u}) {
+    motion::Planner planner{lim, 256};
+    motion::Interpolator interp{planner.queue(), core::Vec{}};
+    control::Channel ch{planner, interp};
+    ch.set_load_threads(threads);
+    ch.load(prog_);
+    ASSERT_TRUE(ch.start({}));
+    std::vector<core::Vec> pos;
+    while ((ch.state() == control::ChannelState::Running || !interp.idle()) && pos.size() < 400000) {
+      ch.update(0.001);
+      interp.step(0.001);
+      pos.push_back(interp.setpoint().pos);
+    }
+    ASSERT_EQ(ch.state(), control::ChannelState::Finished) << threads;
+    EXPECT_EQ(interp.setpoint().pos, p);
+    runs.push_back(std::move(pos));
+  }
+  ASSERT_GT(runs[0].size(), 1000u);
+  for (std::size_t r = 1; r < runs.size(); ++r) {
+    ASSERT_EQ(runs[r].size(), runs[0].size()) << r;
+    for (std::size_t k = 0; k < runs[0].size(); ++k) ASSERT_EQ(runs[r][k], runs[0][k]) << r << " cycle " << k;
+  }
 }
 
 // The planning work of a cycle is bounded: a staircase of 90° corners on a jerk-limited machine

@@ -6,10 +6,12 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
 #include "motion/geometry/polyline_smoothing.hpp"
+#include "motion/geometry/segment_store.hpp"
 #include "planner_run.hpp"
 
 namespace softmc::motion {
@@ -255,6 +257,61 @@ TEST(PolylineSmoothing, EachStretchIsHandedOverAsSoonAsItIsFinished) {
     }
   }
   EXPECT_GT(pieces, 2000u);
+}
+
+// Stretches are smoothed on several threads at once (PolylineSmoothing::threads): the same pieces to
+// the bit as on one, handed over in order, each once, whatever the count; an error in the caller's
+// hand-over comes back to the caller with nothing left running.
+TEST(PolylineSmoothing, StretchesSmoothedOnSeveralThreadsAreTheSamePieces) {
+  std::mt19937_64 rng(29);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<Vec> pts;
+  Vec p;
+  double heading = 0;
+  for (int k = 0; k < 6000; ++k) {  // a wandering CAM path with a sharp turn now and then
+    heading += k % 97 == 0 ? 1.5 : 0.05 * u(rng);
+    p[0] += 0.3 * std::cos(heading);
+    p[1] += 0.3 * std::sin(heading);
+    p[2] = 0.5 * std::sin(0.003 * k);
+    pts.push_back(p);
+  }
+  PolylineSmoothing one;
+  one.threads = 1;
+  one.max_run_lines = 200;
+  std::vector<std::vector<Segment>> ref;
+  smooth_polyline(pts, one, ref);
+  for (const std::size_t threads : {2u, 3u, 8u}) {
+    SCOPED_TRACE(threads);
+    PolylineSmoothing cfg = one;
+    cfg.threads = threads;
+    std::vector<std::vector<Segment>> lines, taken(pts.size() - 1);
+    std::size_t next = 0, stretches = 0;
+    smooth_polyline(pts, cfg, lines, [&](std::size_t a, std::size_t b) {
+      EXPECT_GE(a, next);  // in order, never twice
+      EXPECT_LT(a, b);
+      for (std::size_t i = a; i < b; ++i) taken[i] = std::exchange(lines[i], {});
+      next = b;
+      ++stretches;
+    });
+    EXPECT_GT(stretches, 60u);
+    std::size_t pieces = 0;
+    for (std::size_t i = 0; i < ref.size(); ++i) {
+      ASSERT_EQ(taken[i].size(), ref[i].size()) << i;
+      for (std::size_t k = 0; k < ref[i].size(); ++k, ++pieces)
+        ASSERT_TRUE(same_bits(taken[i][k], ref[i][k])) << i << " " << k;
+    }
+    EXPECT_GT(pieces, 5000u);
+  }
+  PolylineSmoothing cfg = one;
+  cfg.threads = 4;
+  std::vector<std::vector<Segment>> lines;
+  std::size_t handed = 0;
+  EXPECT_THROW(smooth_polyline(pts, cfg, lines,
+                               [&](std::size_t, std::size_t) {
+                                 if (++handed == 5) throw std::runtime_error("the caller's store is full");
+                               }),
+               std::runtime_error);
+  EXPECT_EQ(handed, 5u);
 }
 }  // namespace
 }  // namespace softmc::motion

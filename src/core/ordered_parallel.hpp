@@ -1,0 +1,95 @@
+// Independent jobs worked on several threads, their results handed over in order on the caller's
+// thread (load-time work: smoothing a program's runs of lines). Not rt: it starts threads.
+//
+//   work(0) work(1) work(2) …        on up to `threads` threads (the caller's among them)
+//   give(0) give(1) give(2) …        on the caller's thread, in order, each once work(k) is done
+//
+// A job is started only within `ahead` of the next one to hand over, so finished results waiting
+// for a slow one before them stay few. work(k) must touch only what job k owns; give(k) may touch
+// anything the caller owns. An exception from either ends the rest (jobs already started finish)
+// and is rethrown to the caller once every thread has stopped.
+#pragma once
+
+#include <algorithm>
+#include <condition_variable>
+#include <cstddef>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace softmc::core {
+
+// threads 0: one a hardware thread.
+template <class Work, class Give>
+void ordered_parallel(std::size_t count, std::size_t threads, std::size_t ahead, Work&& work, Give&& give) {
+  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+  threads = std::min(threads, count);
+  if (threads <= 1) {
+    for (std::size_t k = 0; k < count; ++k) {
+      work(k);
+      give(k);
+    }
+    return;
+  }
+  ahead = std::max(ahead, threads);
+  std::mutex m;
+  std::condition_variable cv;
+  std::size_t next_take = 0, next_give = 0;
+  std::vector<char> finished(count, 0);
+  std::exception_ptr error;
+  // Works on the next job within reach; false when there is none to take now.
+  const auto take = [&](std::unique_lock<std::mutex>& lock) {
+    if (next_take >= count || next_take >= next_give + ahead || error) return false;
+    const std::size_t k = next_take++;
+    lock.unlock();
+    std::exception_ptr e;
+    try {
+      work(k);
+    } catch (...) {
+      e = std::current_exception();
+    }
+    lock.lock();
+    finished[k] = 1;
+    if (e && !error) error = e;
+    cv.notify_all();
+    return true;
+  };
+  std::vector<std::thread> pool;
+  pool.reserve(threads - 1);
+  try {
+    for (std::size_t t = 1; t < threads; ++t)
+      pool.emplace_back([&] {
+        std::unique_lock<std::mutex> lock(m);
+        while (next_take < count && !error)
+          if (!take(lock)) cv.wait(lock);
+      });
+    std::unique_lock<std::mutex> lock(m);
+    while (next_give < count && !error) {
+      if (finished[next_give]) {
+        const std::size_t k = next_give++;
+        cv.notify_all();  // one more may be taken
+        lock.unlock();
+        try {
+          give(k);
+        } catch (...) {
+          lock.lock();
+          error = std::current_exception();
+          break;
+        }
+        lock.lock();
+      } else if (!take(lock)) {
+        cv.wait(lock);
+      }
+    }
+    cv.notify_all();
+  } catch (...) {  // a thread could not be started: the others stop, the caller hears why
+    std::lock_guard<std::mutex> lock(m);
+    if (!error) error = std::current_exception();
+    cv.notify_all();
+  }
+  for (auto& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+}
+
+}  // namespace softmc::core
