@@ -15,8 +15,6 @@ namespace softmc::motion {
 
 using namespace planner_detail;
 
-
-// rt-safe
 // rt-safe. A stop (P-5), the path at speed v and acceleration a, s_front into the front block. Once
 // a ≤ 0 the brake only slows it: no block it may still reach needs its limits above v. A Poly block's
 // fixed split was derived for the speed it was asked for (its cap, from the feed at the highest
