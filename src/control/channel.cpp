@@ -261,6 +261,7 @@ bool Channel::start(const core::Vec& from) {
   plan_pos_ = from;
   path_tolerance_mm_ = -1;
   dwell_left_s_ = 0;
+  pops_at_cycle_ = planner_.queue().ring().pops();  // what braked before is not this path's pace
   state_ = ChannelState::Running;
   return true;
 }

@@ -4,8 +4,6 @@
 #include "motion/interp/jerk_guard.hpp"
 
 #include <algorithm>
-#include <array>
-#include <cassert>
 #include <cmath>
 #include <limits>
 
@@ -14,7 +12,6 @@
 namespace softmc::motion {
 
 using namespace guard_detail;
-
 
 // rt-safe. The certificate (see the header) for the rest from x (at p, in block c.k):
 //  - its limits A, J: A the least acceleration of the blocks the ramp to rest enters, J the least

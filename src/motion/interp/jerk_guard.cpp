@@ -2,17 +2,14 @@
 #include "motion/interp/jerk_guard.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cassert>
 #include <cmath>
-#include <limits>
 
 #include "motion/interp/jerk_guard_detail.hpp"
 
 namespace softmc::motion {
 
 using namespace guard_detail;
-
 
 // rt-safe
 PathStep ramp_cycle(const ProfileState& x, double vt, double a_max, double j_max, double dt) {
@@ -282,7 +279,6 @@ bool JerkGuard::tail_safe(const ProfileState& x, double p, const Cursor& c) cons
   }
   return start(n_) > entered + kTouch_mm;  // the window's end (a point to stop at) lies beyond the brake
 }
-
 
 // rt-safe. BrakeRamp's d_stop without its bookkeeping (speeds, |a| bounds, phase starts): where no
 // phase 0 brings |x.a| down, plan_ramp's three phases advanced as build() advances them (the same

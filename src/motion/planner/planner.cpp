@@ -2,9 +2,7 @@
 #include "motion/planner/planner.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <limits>
 #include <numbers>
 
 #include "motion/geometry/bezier.hpp"
@@ -24,8 +22,6 @@ const char* to_string(PlanResult r) {
   }
   return "?";
 }
-
-
 
 Planner::Planner(const MachineLimits& limits, std::size_t queue_capacity, const PlannerConfig& config)
     : limits_(limits), config_(config), queue_(queue_capacity), min_length_mm_(min_length_mm(limits)) {}
@@ -341,7 +337,6 @@ void Planner::join(Block& b, double p_mm) {
   queue_.has_pending_ = true;
 }
 
-
 void Planner::flush() {
   emit_stage();  // validated when pushed: the merged line is inside the hull of what was checked
   release_held();
@@ -372,7 +367,6 @@ void Planner::dense_cap(Block& b) {
     b.v_split_mm_s = std::min(b.v_split_mm_s, cap);
   }
 }
-
 
 // rt-safe. Appends a block: its junction limit with the block before it, then the backward pass.
 void Planner::commit(const Block& b) {

@@ -5,8 +5,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
-#include <numbers>
 
 #include "motion/geometry/bezier.hpp"
 #include "motion/planner/planner_detail.hpp"

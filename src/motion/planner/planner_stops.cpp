@@ -3,12 +3,8 @@
 #include "motion/planner/planner.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <limits>
-#include <numbers>
 
-#include "motion/geometry/bezier.hpp"
 #include "motion/planner/planner_detail.hpp"
 
 namespace softmc::motion {

@@ -5,10 +5,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
 #include <numbers>
 
-#include "motion/geometry/bezier.hpp"
 #include "motion/planner/planner_detail.hpp"
 
 namespace softmc::motion {
