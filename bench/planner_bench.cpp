@@ -255,8 +255,8 @@ BENCHMARK(BM_JerkCycleSmoothed4Axes)->DenseRange(0, 3)->Iterations(50'000);
 // collinear lines at 100 mm/s: the channel runs up to kMaxInstructionsPerCycle (1024) of them a
 // cycle, merged 16 to a block by the planner. Arg: 0 trapezoids, 1 jerk limits (the lines thinned
 // into 50 µm legs and smoothed at load, not timed). max_cycle_us: the most CPU time one cycle took;
-// max_steady_us: the same after the first 100 cycles (the first ~30 fill the window: 1024 lines
-// and 64 blocks each, where a full window takes only what the path used up).
+// max_steady_us: the same after the first 100 cycles (the first cycles fill the window, 16 blocks
+// more than the path passed each, where a full window takes only what the path used up).
 static void BM_ChannelCycleMicronLines(benchmark::State& state) {
   const bool jerk = state.range(0) != 0;
   motion::MachineLimits lim;

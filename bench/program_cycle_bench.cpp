@@ -121,6 +121,32 @@ void BM_ProgramCycle(benchmark::State& state) {
     close(pf);
   }
 }
+// Channel::load of each bench program on the comparison machine with jerk limits (its runs of
+// lines thinned and smoothed into compact pieces), wall time. Args: the program; load threads (1:
+// one after the other; 0: one a hardware thread, as softmc loads). The pieces are the same.
+void BM_ChannelLoad(benchmark::State& state) {
+  const std::string name = kPrograms[static_cast<std::size_t>(state.range(0))];
+  const auto cfg = comparison_machine(true);
+  const auto setup = app::gcode_setup(cfg);
+  auto parsed = program::iso::parse_file(std::string(SOFTMC_SOURCE_DIR) + "/examples/gcode/bench/" + name + ".ngc",
+                                         setup->options());
+  if (!parsed.program) {
+    state.SkipWithError(("cannot read " + name + ".ngc").c_str());
+    return;
+  }
+  const program::Program prog = std::move(*parsed.program);
+  motion::PlannerConfig pc;
+  pc.tolerance_mm = cfg.planner.tolerance_mm;
+  pc.smoothing_max_turn_rad = cfg.planner.smoothing_turn_deg * 3.14159265358979323846 / 180;
+  motion::Planner planner(cfg.limits(), cfg.planner_window(), pc);
+  motion::Interpolator interp(planner.queue(), prog.start);
+  control::Channel ch(planner, interp);
+  ch.set_load_threads(static_cast<std::size_t>(state.range(1)));
+  for (auto _ : state) ch.load(prog);
+  state.SetLabel(name + (state.range(1) == 1 ? ", one thread" : ", every hardware thread"));
+}
+BENCHMARK(BM_ChannelLoad)->ArgsProduct({{0, 1, 2, 3}, {1, 0}})->UseRealTime()->Unit(benchmark::kMillisecond);
+
 BENCHMARK(BM_ProgramCycle)->ArgsProduct({{0, 1, 2, 3}, {0, 1}})->Iterations(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace

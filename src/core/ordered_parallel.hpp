@@ -4,8 +4,8 @@
 //   work(0) work(1) work(2) …        on up to `threads` threads (the caller's among them)
 //   give(0) give(1) give(2) …        on the caller's thread, in order, each once work(k) is done
 //
-// A job is started only within `ahead` of the next one to hand over, so finished results waiting
-// for a slow one before them stay few. work(k) must touch only what job k owns; give(k) may touch
+// A job is started only within `ahead` (at least four a thread) of the next one to hand over, so
+// finished results waiting for a slow one before them stay few. work(k) must touch only what job k owns; give(k) may touch
 // anything the caller owns. An exception from either ends the rest (jobs already started finish)
 // and is rethrown to the caller once every thread has stopped.
 #pragma once
@@ -20,7 +20,7 @@
 
 namespace softmc::core {
 
-// threads 0: one a hardware thread.
+// threads 0: one a hardware thread; ahead 0: four a thread.
 template <class Work, class Give>
 void ordered_parallel(std::size_t count, std::size_t threads, std::size_t ahead, Work&& work, Give&& give) {
   if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
@@ -32,7 +32,7 @@ void ordered_parallel(std::size_t count, std::size_t threads, std::size_t ahead,
     }
     return;
   }
-  ahead = std::max(ahead, threads);
+  ahead = std::max(ahead, 4 * threads);  // within 2 of each other, threads wait on a slow job
   std::mutex m;
   std::condition_variable cv;
   std::size_t next_take = 0, next_give = 0;

@@ -382,7 +382,7 @@ void smooth_polyline(std::span<const Vec> pts, const PolylineSmoothing& settings
   // Each stretch is smoothed on its own (it writes its own lines only: the same pieces on any
   // thread), several at once, and handed over in order.
   core::ordered_parallel(
-      stretches.size(), cfg.threads, 2 * std::max<std::size_t>(1, cfg.threads),
+      stretches.size(), cfg.threads, 0,
       [&](std::size_t k) { smooth_range(pts, stretches[k].a, stretches[k].b, cfg, lines); },
       [&](std::size_t k) {
         if (range_done && stretches[k].b > stretches[k].a) range_done(stretches[k].a, stretches[k].b);
