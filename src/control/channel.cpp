@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <thread>
 
 #include "control/path.hpp"
 #include "core/ordered_parallel.hpp"
@@ -139,6 +140,8 @@ void Channel::load(const program::Program& prog) {
   }
   close_run();
 
+  const std::size_t threads =
+      load_threads_ > 0 ? load_threads_ : std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, kMaxLoadThreads);
   const auto runs = static_cast<std::size_t>(std::count_if(items.begin(), items.end(), [](const Item& it) { return !it.ins.empty(); }));
   // A run smoothed: its lines thinned, then the spline's pieces, each stretch packed as soon as the
   // smoothing finishes it (a run's pieces are never all held as 1.5 kB Segments).
@@ -146,7 +149,7 @@ void Channel::load(const program::Program& prog) {
     motion::PolylineSmoothing cfg;
     cfg.tolerance_mm = pc.smoothing_share * run.tol;
     cfg.max_turn_rad = pc.smoothing_max_turn_rad;
-    cfg.threads = runs > 1 ? 1 : load_threads_;  // the runs are what runs at once (one alone: its stretches)
+    cfg.threads = runs > 1 ? 1 : threads;  // the runs are what runs at once (one alone: its stretches)
     // Tiny collinear lines become legs of up to kThinLeg_mm (1 µm CAM lines would otherwise be a
     // piece each, which the planner cannot merge: the window then covers too little to brake in,
     // 31 mm/s on the built-in table instead of F6000). The points dropped lie within
@@ -185,7 +188,7 @@ void Channel::load(const program::Program& prog) {
   };
   std::size_t first_set = 0;  // curve_first_ is set for instructions below this
   core::ordered_parallel(
-      items.size(), load_threads_, kRunsAhead,
+      items.size(), threads, kRunsAhead,
       [&](std::size_t k) {
         if (!items[k].ins.empty()) smooth_run(items[k]);
       },

@@ -53,6 +53,9 @@ class Channel {
   static constexpr std::size_t kPieceBytes = 600;
   // Runs of lines smoothed at once ahead of the one whose pieces are taken next (load).
   static constexpr std::size_t kRunsAhead = 16;
+  // Threads load() uses by default: each holds a stretch of up to 1 000 lines' pieces as whole
+  // Segments (1.5 MB) while it smooths them.
+  static constexpr std::size_t kMaxLoadThreads = 8;
   static constexpr std::size_t kMaxThinned = 64;
 
   Channel(motion::Planner& planner, motion::Interpolator& interp) : planner_(planner), interp_(interp) {}
@@ -62,8 +65,8 @@ class Channel {
   // a curve that cannot be built faults the channel when the program reaches it. With jerk limits,
   // runs of short lines are smoothed here too (PlannerConfig::smoothing_max_turn_rad).
   void load(const program::Program& prog);
-  // Not rt: threads load() smooths runs of lines on (0: one a hardware thread; the pieces are the
-  // same whatever the count).
+  // Not rt: threads load() smooths runs of lines on (0: one a hardware thread, at most
+  // kMaxLoadThreads; the pieces are the same whatever the count).
   void set_load_threads(std::size_t n) { load_threads_ = n; }
   // rt-safe: start from the first instruction (Idle or Finished), planning from `from`. Curves,
   // smoothed runs and arc pieces were built at load from the program's start point: `from` must be
