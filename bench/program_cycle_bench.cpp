@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -68,18 +69,24 @@ double read_count(int fd) {
   return static_cast<double>(v);
 }
 
+// examples/gcode/bench/NAME.ngc as the machine's interpreter reads it (nothing where it cannot).
+std::optional<program::Program> bench_program(const std::string& name, const machine::MachineConfig& cfg) {
+  const auto setup = app::gcode_setup(cfg);
+  auto parsed = program::iso::parse_file(std::string(SOFTMC_SOURCE_DIR) + "/examples/gcode/bench/" + name + ".ngc",
+                                         setup->options());
+  return std::move(parsed.program);
+}
+
 // Args: the program (index into kPrograms), jerk limits (0: trapezoids, 1: 10 000 mm/s³).
 void BM_ProgramCycle(benchmark::State& state) {
   const std::string name = kPrograms[static_cast<std::size_t>(state.range(0))];
   const auto cfg = comparison_machine(state.range(1) != 0);
-  const auto setup = app::gcode_setup(cfg);
-  auto parsed = program::iso::parse_file(std::string(SOFTMC_SOURCE_DIR) + "/examples/gcode/bench/" + name + ".ngc",
-                                         setup->options());
-  if (!parsed.program) {
+  const auto parsed = bench_program(name, cfg);
+  if (!parsed) {
     state.SkipWithError(("cannot read " + name + ".ngc").c_str());
     return;
   }
-  const program::Program prog = std::move(*parsed.program);
+  const program::Program& prog = *parsed;
   std::vector<double> us, faults;
   us.reserve(4'000'000);
   faults.reserve(us.capacity());
@@ -127,14 +134,12 @@ void BM_ProgramCycle(benchmark::State& state) {
 void BM_ChannelLoad(benchmark::State& state) {
   const std::string name = kPrograms[static_cast<std::size_t>(state.range(0))];
   const auto cfg = comparison_machine(true);
-  const auto setup = app::gcode_setup(cfg);
-  auto parsed = program::iso::parse_file(std::string(SOFTMC_SOURCE_DIR) + "/examples/gcode/bench/" + name + ".ngc",
-                                         setup->options());
-  if (!parsed.program) {
+  const auto parsed = bench_program(name, cfg);
+  if (!parsed) {
     state.SkipWithError(("cannot read " + name + ".ngc").c_str());
     return;
   }
-  const program::Program prog = std::move(*parsed.program);
+  const program::Program& prog = *parsed;
   motion::PlannerConfig pc;
   pc.tolerance_mm = cfg.planner.tolerance_mm;
   pc.smoothing_max_turn_rad = cfg.planner.smoothing_turn_deg * 3.14159265358979323846 / 180;
