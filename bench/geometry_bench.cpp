@@ -98,10 +98,12 @@ static void BM_BuildCubicBezier(benchmark::State& state) {
 }
 BENCHMARK(BM_BuildCubicBezier);
 
-// Smooths pts at tolerance tol (turns up to 20° in a run, as the Channel sets it) every iteration;
-// reported per programmed line.
+// Smooths pts at tolerance tol (turns up to 20° in a run, as the Channel sets it) every iteration,
+// on one thread (the benchmark times the calling thread's CPU; BM_ChannelLoad times the load on
+// every core); reported per programmed line.
 static void smooth_per_line(benchmark::State& state, const std::vector<motion::Vec>& pts, double tol) {
   motion::PolylineSmoothing cfg;
+  cfg.threads = 1;
   cfg.tolerance_mm = tol;
   cfg.max_turn_rad = 20 * 3.14159265358979323846 / 180;
   std::vector<std::vector<motion::Segment>> lines;

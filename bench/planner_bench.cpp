@@ -243,7 +243,9 @@ static void BM_JerkCycleSmoothed4Axes(benchmark::State& state) {
   std::vector<core::Vec> pts{lines.front().geom.start};
   for (const auto& r : lines) pts.push_back(r.geom.end);
   std::vector<std::vector<motion::Segment>> out;
-  motion::smooth_polyline(pts, motion::PolylineSmoothing{}, out);
+  motion::PolylineSmoothing cfg;
+  cfg.threads = 1;  // not timed, but one thread is enough
+  motion::smooth_polyline(pts, cfg, out);
   std::vector<motion::PathRequest> reqs;
   for (const auto& l : out)
     for (const auto& seg : l) reqs.push_back({seg, 100, false, static_cast<std::uint32_t>(reqs.size())});

@@ -7,7 +7,6 @@
 #include <thread>
 
 #include "control/path.hpp"
-#include "core/ordered_parallel.hpp"
 #include "motion/geometry/polyline_smoothing.hpp"
 
 namespace softmc::control {
@@ -35,60 +34,85 @@ void Channel::load(const program::Program& prog) {
   curve_next_ = 0;
   // Curves are built from where the program's previous motion ends: walk the programmed geometry.
   const auto n = prog.instructions.size();
-  // Each instruction's pieces go into one compact store, in program order: a Segment is 1.5 kB,
-  // and a CAM program's pieces (one a line) were most of a 200 000-line run's memory; the store
-  // keeps what each piece's kind uses, on its axes only (about 590 bytes for a cubic on three axes).
-  // The walk below builds the arcs' pieces and the curves as it goes (a curve's end is where the
-  // next motion starts) and sets each run of lines aside; the runs are then smoothed on every
-  // hardware thread at once and their pieces taken in program order (core::ordered_parallel): the
-  // same pieces in the same places as one after the other, in about half the time on two cores.
+  // Each instruction's pieces go straight into one compact store, in program order (a run's lines
+  // are smoothed when it closes, before the instruction that closed it adds its own): a Segment is
+  // 1.5 kB, and a CAM program's pieces (one a line) were most of a 200 000-line run's memory; the
+  // store keeps what each piece's kind uses, on its axes only (about 590 bytes for a cubic on three
+  // axes). With smoothing, reserved at about one piece a line (a smoothed line's piece, and a stub
+  // at each end of a run), so a CAM program's store is not grown by doubling; without, only arcs
+  // and curves give pieces, and nothing is set aside for the lines (a review: address space a line
+  // that strict overcommit would refuse for a million).
   curve_segments_.clear();
   const auto& pc = planner_.config();
   const bool jerk = motion::jerk_mode(planner_.limits());
   const bool smooth = pc.smoothing_max_turn_rad > 0 && jerk;
-  if (smooth) {  // about a piece a line (a smoothed line's, and a stub at each end of a run)
+  if (smooth) {
     const auto lines = static_cast<std::size_t>(std::count_if(prog.instructions.begin(), prog.instructions.end(), [](const auto& ins) {
       return std::holds_alternative<program::Linear>(ins.op);
     }));
     curve_segments_.reserve(lines + lines / 16 + 64, kPieceBytes);
   }
   curve_first_.assign(n + 1, 0);
+  std::size_t first_set = 0;  // curve_first_ is set for instructions below this
+  const auto add_pieces = [&](std::size_t i, auto begin, auto end) {
+    for (; first_set <= i; ++first_set) curve_first_[first_set] = static_cast<std::uint32_t>(curve_segments_.size());
+    for (auto it = begin; it != end; ++it) curve_segments_.push_back(*it);
+  };
   curve_error_.assign(n, nullptr);
   precomputed_.assign(n, 0);
-  // What the walk hands on, in program order: a run of lines to smooth (pts, ins, tol), or pieces
-  // built already. Either way its pieces end up in `store`, `owners` saying whose (instruction,
-  // pieces), `marks` the precomputed_ flags to set.
-  struct Item {
-    std::vector<core::Vec> pts;
-    std::vector<std::uint32_t> ins;
-    double tol = 0;
-    motion::SegmentStore store;
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> owners;
-    std::vector<std::pair<std::uint32_t, std::uint8_t>> marks;
-  };
-  std::vector<Item> items;
-  // Pieces the walk builds for instruction i (arcs in pieces, curves): onto the last item when it
-  // holds built pieces already (a run item is never added to once set aside).
-  const auto built = [&](std::uint32_t i) -> Item& {
-    if (items.empty() || !items.back().ins.empty()) items.emplace_back();
-    Item& it = items.back();
-    if (it.owners.empty() || it.owners.back().first != i) it.owners.push_back({i, 0});
-    return it;
-  };
-  const auto add_built = [&](std::uint32_t i, const motion::Segment& seg) {
-    Item& it = built(i);
-    it.store.push_back(seg);
-    ++it.owners.back().second;
-  };
+  const std::size_t threads =
+      load_threads_ > 0 ? load_threads_ : std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, kMaxLoadThreads);
   core::Vec at = prog.start;
   std::vector<motion::Segment> tmp;
   // Jerk mode: runs of short lines become curvature-continuous B-splines (polyline_smoothing.hpp).
   double tol = -1;  // as PathMode sets it in update()
-  double run_feed = 0;
-  bool in_run = false;
+  std::vector<core::Vec> run_pts;
+  std::vector<std::size_t> run_ins;
+  double run_feed = 0, run_tol = 0;
+  std::vector<std::vector<motion::Segment>> run_out;
+  std::vector<std::size_t> kept;
+  std::vector<core::Vec> thin_pts;
   const auto close_run = [&] {
-    if (in_run && items.back().ins.size() < 2) items.pop_back();  // one line alone: kept as programmed
-    in_run = false;
+    if (run_ins.size() >= 2) {
+      motion::PolylineSmoothing cfg;
+      cfg.tolerance_mm = pc.smoothing_share * run_tol;
+      cfg.max_turn_rad = pc.smoothing_max_turn_rad;
+      // The run's stretches (up to its sharp turns, at most max_run_lines) are smoothed on several
+      // threads at once and handed over in order (core::ordered_parallel): the same pieces.
+      cfg.threads = threads;
+      // Tiny collinear lines become legs of up to kThinLeg_mm (1 µm CAM lines would otherwise be a
+      // piece each, which the planner cannot merge: the window then covers too little to brake in,
+      // 31 mm/s on the built-in table instead of F6000). The points dropped lie within
+      // thin_share·P of the legs, and the spline keeps to the rest of the smoothing share, so it
+      // stays within smoothing_share·P of the program. Nothing dropped: every point is a leg's end.
+      const double eps = pc.smoothing_thin_share * run_tol;
+      kept.clear();
+      if (eps > 0) motion::thin_polyline(run_pts, eps, kThinLeg_mm, kMaxThinned, kept);
+      if (kept.size() < run_pts.size() && !kept.empty()) {
+        cfg.tolerance_mm -= eps;
+      } else {
+        kept.resize(run_pts.size());
+        std::iota(kept.begin(), kept.end(), std::size_t{0});
+      }
+      thin_pts.clear();
+      for (const std::size_t k : kept) thin_pts.push_back(run_pts[k]);
+      // Leg r stands for lines kept[r] … kept[r + 1] − 1: smoothed, the first carries its segments
+      // and the others none (executed with it); kept as a line, all stay as programmed (collinear
+      // lines, which the planner merges). Each stretch the smoothing finishes (up to a sharp turn,
+      // at most max_run_lines) is taken and freed at once: a whole program's pieces are not held
+      // twice.
+      motion::smooth_polyline(thin_pts, cfg, run_out, [&](std::size_t from, std::size_t to) {
+        for (std::size_t r = from; r < to; ++r) {
+          if (run_out[r].empty()) continue;
+          add_pieces(run_ins[kept[r]], run_out[r].begin(), run_out[r].end());
+          std::vector<motion::Segment>().swap(run_out[r]);
+          precomputed_[run_ins[kept[r]]] = 1;
+          for (std::size_t k = kept[r] + 1; k < kept[r + 1]; ++k) precomputed_[run_ins[k]] = kAbsorbed;
+        }
+      });
+    }
+    run_pts.clear();
+    run_ins.clear();
   };
   for (std::size_t i = 0; i < n; ++i) {
     const auto& op = prog.instructions[i].op;
@@ -97,16 +121,14 @@ void Channel::load(const program::Program& prog) {
     const auto* l = std::get_if<program::Linear>(&op);
     const double t = tol < 0 ? pc.tolerance_mm : tol;
     if (smooth && l && t > 0) {
-      if (!in_run || l->feed_mm_s != run_feed || t != items.back().tol) {
+      if (run_ins.empty() || l->feed_mm_s != run_feed || t != run_tol) {
         close_run();
-        items.emplace_back();
-        items.back().pts.push_back(at);
-        items.back().tol = t;
+        run_pts.push_back(at);
         run_feed = l->feed_mm_s;
-        in_run = true;
+        run_tol = t;
       }
-      items.back().pts.push_back(l->end);
-      items.back().ins.push_back(static_cast<std::uint32_t>(i));
+      run_pts.push_back(l->end);
+      run_ins.push_back(i);
     } else if (!std::holds_alternative<program::PathMode>(op)) {
       close_run();
     }
@@ -119,8 +141,8 @@ void Channel::load(const program::Program& prog) {
         core::Vec from = seg->start;
         for (int k = 1; k <= pieces; ++k) {
           const core::Vec to = k == pieces ? seg->end : seg->point(seg->length * k / pieces);
-          add_built(static_cast<std::uint32_t>(i),
-                    motion::make_arc(from, to, seg->axis0, seg->axis1, seg->c0, seg->c1, seg->sweep > 0 ? 1 : -1));
+          const auto piece = motion::make_arc(from, to, seg->axis0, seg->axis1, seg->c0, seg->c1, seg->sweep > 0 ? 1 : -1);
+          add_pieces(i, &piece, &piece + 1);
           from = to;
         }
         precomputed_[i] = 1;
@@ -132,77 +154,11 @@ void Channel::load(const program::Program& prog) {
         curve_error_[i] = motion::to_string(e);
         continue;
       }
-      if (!tmp.empty()) {
-        for (const auto& seg : tmp) add_built(static_cast<std::uint32_t>(i), seg);
-        at = tmp.back().end;
-      }
+      add_pieces(i, tmp.begin(), tmp.end());
+      if (!tmp.empty()) at = tmp.back().end;
     }
   }
   close_run();
-
-  const std::size_t threads =
-      load_threads_ > 0 ? load_threads_ : std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, kMaxLoadThreads);
-  const auto runs = static_cast<std::size_t>(std::count_if(items.begin(), items.end(), [](const Item& it) { return !it.ins.empty(); }));
-  // A run smoothed: its lines thinned, then the spline's pieces, each stretch packed as soon as the
-  // smoothing finishes it (a run's pieces are never all held as 1.5 kB Segments).
-  const auto smooth_run = [&](Item& run) {
-    motion::PolylineSmoothing cfg;
-    cfg.tolerance_mm = pc.smoothing_share * run.tol;
-    cfg.max_turn_rad = pc.smoothing_max_turn_rad;
-    cfg.threads = runs > 1 ? 1 : threads;  // the runs are what runs at once (one alone: its stretches)
-    // Tiny collinear lines become legs of up to kThinLeg_mm (1 µm CAM lines would otherwise be a
-    // piece each, which the planner cannot merge: the window then covers too little to brake in,
-    // 31 mm/s on the built-in table instead of F6000). The points dropped lie within
-    // thin_share·P of the legs, and the spline keeps to the rest of the smoothing share, so it
-    // stays within smoothing_share·P of the program. Nothing dropped: every point is a leg's end.
-    const double eps = pc.smoothing_thin_share * run.tol;
-    std::vector<std::size_t> kept;
-    if (eps > 0) motion::thin_polyline(run.pts, eps, kThinLeg_mm, kMaxThinned, kept);
-    if (kept.size() < run.pts.size() && !kept.empty()) {
-      cfg.tolerance_mm -= eps;
-    } else {
-      kept.resize(run.pts.size());
-      std::iota(kept.begin(), kept.end(), std::size_t{0});
-    }
-    std::vector<core::Vec> thin_pts;
-    thin_pts.reserve(kept.size());
-    for (const std::size_t k : kept) thin_pts.push_back(run.pts[k]);
-    std::vector<core::Vec>().swap(run.pts);
-    run.store.reserve(kept.size() + kept.size() / 16 + 4, kPieceBytes);
-    // Leg r stands for lines kept[r] … kept[r + 1] − 1: smoothed, the first carries its segments
-    // and the others none (executed with it); kept as a line, all stay as programmed (collinear
-    // lines, which the planner merges).
-    std::vector<std::vector<motion::Segment>> out;
-    motion::smooth_polyline(thin_pts, cfg, out, [&](std::size_t from, std::size_t to) {
-      for (std::size_t r = from; r < to; ++r) {
-        if (out[r].empty()) continue;
-        const std::uint32_t owner = run.ins[kept[r]];
-        for (const auto& seg : out[r]) run.store.push_back(seg);
-        run.owners.push_back({owner, static_cast<std::uint32_t>(out[r].size())});
-        std::vector<motion::Segment>().swap(out[r]);
-        run.marks.push_back({owner, 1});
-        for (std::size_t k = kept[r] + 1; k < kept[r + 1]; ++k) run.marks.push_back({run.ins[k], kAbsorbed});
-      }
-    });
-    std::vector<std::uint32_t>().swap(run.ins);
-  };
-  std::size_t first_set = 0;  // curve_first_ is set for instructions below this
-  core::ordered_parallel(
-      items.size(), threads, kRunsAhead,
-      [&](std::size_t k) {
-        if (!items[k].ins.empty()) smooth_run(items[k]);
-      },
-      [&](std::size_t k) {  // in program order: the pieces' places and the marks
-        Item& it = items[k];
-        std::size_t at_piece = curve_segments_.size();
-        for (const auto& [i, count] : it.owners) {
-          for (; first_set <= i; ++first_set) curve_first_[first_set] = static_cast<std::uint32_t>(at_piece);
-          at_piece += count;
-        }
-        for (const auto& [i, mark] : it.marks) precomputed_[i] = mark;
-        curve_segments_.append(std::move(it.store));
-        it = Item{};
-      });
   for (; first_set <= n; ++first_set) curve_first_[first_set] = static_cast<std::uint32_t>(curve_segments_.size());
 }
 

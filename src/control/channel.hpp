@@ -51,8 +51,6 @@ class Channel {
   static constexpr double kThinLeg_mm = 0.05;
   // What a smoothed piece takes in the SegmentStore: a cubic on three axes is about 590 bytes.
   static constexpr std::size_t kPieceBytes = 600;
-  // Runs of lines smoothed at once ahead of the one whose pieces are taken next (load).
-  static constexpr std::size_t kRunsAhead = 16;
   // Threads load() uses by default: each holds a stretch of up to 1 000 lines' pieces as whole
   // Segments (1.5 MB) while it smooths them.
   static constexpr std::size_t kMaxLoadThreads = 8;

@@ -206,20 +206,6 @@ void SegmentStore::push_back(const Segment& s) {
   ++whole_;
 }
 
-void SegmentStore::append(SegmentStore&& other) {
-  if (offset_.empty()) {
-    std::swap(data_, other.data_);
-    std::swap(offset_, other.offset_);
-    std::swap(whole_, other.whole_);
-  } else {
-    const std::uint64_t base = data_.size();
-    data_.insert(data_.end(), other.data_.begin(), other.data_.end());
-    for (const std::uint64_t o : other.offset_) offset_.push_back(base + o);
-    whole_ += other.whole_;
-  }
-  other.clear();
-}
-
 // rt-safe
 void SegmentStore::get(std::size_t i, Segment& out) const {
   const std::byte* p = data_.data() + offset_[i];

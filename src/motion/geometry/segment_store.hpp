@@ -29,9 +29,6 @@ class SegmentStore {
   void reserve(std::size_t segments, std::size_t bytes_each);
   // Not rt: appends a copy of s.
   void push_back(const Segment& s);
-  // Not rt: appends every piece of `other` (taken over whole when this store holds none), leaving
-  // it empty.
-  void append(SegmentStore&& other);
   std::size_t size() const { return offset_.size(); }
   bool empty() const { return offset_.empty(); }
   // rt-safe: piece i, exactly as it was stored, written over `out` (every field).

@@ -249,9 +249,10 @@ TEST(Channel, AWindowFillingAfterAStopFillsOverSeveralCycles) {
   EXPECT_GT(planner.blocks_committed() - before, 0u);
 }
 
-// load() smooths a program's runs of lines on several threads at once and takes their pieces in
-// program order: runs of many sizes (one line, a few, hundreds) between G5 curves, arcs, feed
-// changes and exact stops run to the same setpoints, bit for bit, on 1, 2 and 5 threads.
+// load() smooths the stretches of a run of lines (up to its sharp turns) on several threads at once
+// and takes their pieces in program order: runs of many sizes (one line, a few, hundreds with sharp
+// turns) between G5 curves, arcs, feed changes and exact stops run to the same setpoints, bit for
+// bit, on 1, 2 and 5 threads.
 TEST(Channel, RunsSmoothedOnSeveralThreadsRunTheSame) {
   std::mt19937_64 rng(2905);
   std::uniform_real_distribution<double> u(-1, 1);
@@ -262,7 +263,7 @@ TEST(Channel, RunsSmoothedOnSeveralThreadsRunTheSame) {
     const int lines = run % 7 == 0 ? 1 : run % 5 == 0 ? 300 : 3 + run;
     const double feed = run % 3 == 0 ? 40 : 60;
     for (int k = 0; k < lines; ++k) {
-      heading += 0.08 * u(rng);
+      heading += k % 40 == 39 ? 1.2 : 0.08 * u(rng);  // a sharp turn ends a stretch
       p[0] += 0.2 * std::cos(heading);
       p[1] += 0.2 * std::sin(heading);
       ops.push_back(program::Linear{p, feed});

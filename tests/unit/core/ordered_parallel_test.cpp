@@ -47,8 +47,9 @@ TEST(OrderedParallel, EveryJobOnceHandedOverInOrderWithinAhead) {
   }
 }
 
-// An exception from a job or from a hand-over reaches the caller once every thread has stopped;
-// nothing after it is handed over.
+// An exception from a job or from a hand-over reaches the caller once every thread has stopped, as
+// on one thread: every job before the first failing one is handed over, none after it, and the
+// error is the first failing job's even when a later one failed sooner.
 TEST(OrderedParallel, AnErrorInAJobOrAHandOverReachesTheCaller) {
   for (const std::size_t threads : {1u, 3u}) {
     std::vector<int> given;
@@ -61,6 +62,23 @@ TEST(OrderedParallel, AnErrorInAJobOrAHandOverReachesTheCaller) {
                  std::runtime_error);
     ASSERT_EQ(given.size(), 40u);  // 0 … 39, not the failed one nor any after it
     EXPECT_EQ(given.back(), 39);
+    given.clear();
+    try {
+      core::ordered_parallel(
+          100, threads, 30,
+          [&](std::size_t k) {
+            if (k == 20) {
+              std::this_thread::sleep_for(std::chrono::milliseconds(20));
+              throw std::runtime_error("job 20");
+            }
+            if (k == 25) throw std::runtime_error("job 25");
+          },
+          [&](std::size_t k) { given.push_back(static_cast<int>(k)); });
+      ADD_FAILURE() << "no error";
+    } catch (const std::runtime_error& e) {
+      EXPECT_STREQ(e.what(), "job 20");
+    }
+    EXPECT_EQ(given.size(), 20u);
     given.clear();
     EXPECT_THROW(core::ordered_parallel(
                      100, threads, 4, [](std::size_t) {},
