@@ -50,6 +50,18 @@ void curve_jerk_acc(SegmentLimits& l, double j_axis, double amp_n, double kappa,
   l.a_max_mm_s2 = std::min(l.a_max_mm_s2, scale * kArcAccJerkShare * j_axis / (3 * l.v_max_mm_s * kappa * amp_n));
 }
 
+// Axes moving at v·|rate_i| (a line's direction, an arc's axes outside its plane): the path speed is
+// limited by v_max_i / |rate_i|, likewise acceleration and jerk.
+void linear_limits(SegmentLimits& l, const MachineLimits& lim, const Vec& rate) {
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
+    const double d = std::abs(rate[i]);
+    if (d < 1e-12) continue;
+    l.v_max_mm_s = std::min(l.v_max_mm_s, lim.axis[i].v_max_mm_s / d);
+    l.a_max_mm_s2 = std::min(l.a_max_mm_s2, lim.axis[i].a_max_mm_s2 / d);
+    if (lim.axis[i].j_max_mm_s3 > 0) l.j_max_mm_s3 = std::min(l.j_max_mm_s3, lim.axis[i].j_max_mm_s3 / d);
+  }
+}
+
 }  // namespace
 
 // rt-safe
@@ -93,14 +105,7 @@ SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double 
   double& v = l.v_max_mm_s;
   double& a = l.a_max_mm_s2;
   if (g.kind == SegmentKind::Line) {
-    // Each axis moves at v·|dir_i|: the path speed is limited by v_max_i / |dir_i|, likewise acceleration.
-    for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
-      const double d = std::abs(g.dir[i]);
-      if (d < 1e-12) continue;
-      v = std::min(v, lim.axis[i].v_max_mm_s / d);
-      a = std::min(a, lim.axis[i].a_max_mm_s2 / d);
-      if (lim.axis[i].j_max_mm_s3 > 0) l.j_max_mm_s3 = std::min(l.j_max_mm_s3, lim.axis[i].j_max_mm_s3 / d);
-    }
+    linear_limits(l, lim, g.dir);
   } else if (g.kind == SegmentKind::Arc) {
     // Arc: the tangent turns through every direction of the plane, so an in-plane axis may carry the
     // whole in-plane speed. An in-plane axis sees a_t·t_i + κv²·n_i; with a_t·inplane ≤ ct·a and
@@ -143,13 +148,7 @@ SegmentLimits segment_limits(const Segment& g, const MachineLimits& lim, double 
       if (kappa > 0) v = std::min(v, std::sqrt(cn_i * am / kappa));
       curve_jerk(l, lim.axis[i].j_max_mm_s3, inplane, k_speed, circle_scale, speed_share);
     }
-    for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
-      const double d = std::abs(g.linear[i]);
-      if (d < 1e-12) continue;
-      v = std::min(v, lim.axis[i].v_max_mm_s / d);
-      a = std::min(a, lim.axis[i].a_max_mm_s2 / d);
-      if (lim.axis[i].j_max_mm_s3 > 0) l.j_max_mm_s3 = std::min(l.j_max_mm_s3, lim.axis[i].j_max_mm_s3 / d);
-    }
+    linear_limits(l, lim, g.linear);  // the axes outside the plane
     if (inplane >= 1e-12)
       for (std::size_t i : {std::size_t{g.axis0}, std::size_t{g.axis1}})
         curve_jerk_acc(l, lim.axis[i].j_max_mm_s3, 1.0, kappa, circle_scale);
