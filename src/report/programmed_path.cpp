@@ -98,10 +98,7 @@ void ProgrammedPath::box(const ProgrammedMove& m, core::Vec& lo, core::Vec& hi) 
     hi = curve_box[m.curve].hi;
     return;
   }
-  for (std::size_t i = 0; i < core::kMaxAxes; ++i) {  // as Segment::bounds takes a line's
-    lo[i] = std::min(m.start[i], m.end[i]);
-    hi[i] = std::max(m.start[i], m.end[i]);
-  }
+  motion::line_bounds(m.start, m.end, lo, hi);
 }
 
 motion::Segment ProgrammedPath::segment(const ProgrammedMove& m) const {

@@ -325,16 +325,20 @@ double Segment::distance_to(const Vec& p, double enough) const {
 }
 
 // rt-safe
+void line_bounds(const Vec& a, const Vec& b, Vec& lo, Vec& hi) {
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
+    lo[i] = std::min(a[i], b[i]);
+    hi[i] = std::max(a[i], b[i]);
+  }
+}
+
 void Segment::bounds(Vec& lo, Vec& hi) const {
   if (kind == SegmentKind::Poly) {  // computed once at construction (bernstein_range.hpp)
     lo = poly.box_lo;
     hi = poly.box_hi;
     return;
   }
-  for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
-    lo[i] = std::min(start[i], end[i]);
-    hi[i] = std::max(start[i], end[i]);
-  }
+  line_bounds(start, end, lo, hi);
   if (kind != SegmentKind::Arc) return;
   // The in-plane extremes lie at the quarter angles the sweep passes over (a spiral: within its
   // larger radius there).

@@ -95,6 +95,9 @@ struct Segment {
 // of a line, also for holders of a line's ends that do not keep a whole Segment (report::ProgrammedMove).
 // rt-safe.
 double line_distance(const Vec& start, const Vec& dir, double length, const Vec& p);
+// The box of the line from a to b (Segment::bounds of a line, and of an arc before its in-plane
+// extremes; also report::ProgrammedPath's lines, kept as their ends). rt-safe.
+void line_bounds(const Vec& a, const Vec& b, Vec& lo, Vec& hi);
 
 Segment make_line(const Vec& start, const Vec& end);
 // The same line written into `s` in place, every field make_line sets; `s.poly` is left as it is (a
