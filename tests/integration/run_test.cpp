@@ -624,3 +624,24 @@ TEST(Run, AStopThatComesToRestInTheNextBlockIsNotPulledBack) {
   for (std::size_t i = 1; i < r.res.trace.rows.size(); ++i)
     EXPECT_GE(r.res.trace.rows[i].cmd[1], r.res.trace.rows[i - 1].cmd[1]) << "row " << i;
 }
+
+// A brake to rest on the program's end that lands a hair short (a fuzzer's: X and Z without a jerk
+// limit, Y with 10 000 mm/s³ and 200 mm/s², a 0.25 ms period): it came to rest 2.5e-10 mm before
+// the end, and the snap onto it in the same cycle as the brake's last jerk phase added 2.5e-10/dt³
+// to that phase, Y at 1.0016× its jerk. A hair longer than noise against j·dt³ is now snapped after
+// three cycles at rest, alone in its third differences; the run ends on the point, within a
+// millisecond of the snap at once.
+TEST(Run, ABrakeThatLandsAHairShortOfTheEndSettlesBeforeTheSnap) {
+  auto cfg = fuzz_machine({{{250, 1000, 0}, {250, 200, 10000}, {50, 1000, 0}}});
+  machine::apply_override(cfg, "period_s=0.00025");
+  machine::apply_override(cfg, "planner.lookahead=16");
+  machine::apply_override(cfg, "planner.smoothing_turn_deg=5");
+  machine::validate(cfg);
+  const auto r = run_source("G21 G90 G17\nG64 P0.005\nG0 X50 Y50 Z10\nF300\nG1 X50.5666 Y53.8779 Z9.9872\n"
+                            "G1 X50.6099 Y53.8530 Z9.9920\nG1 X50.6098 Y73.8530 Z9.9920\nM2\n",
+                            "hair_short.ngc", cfg);
+  expect_within_limits(r.sum, cfg, 0.005);
+  EXPECT_LE(r.sum.axis[1].max_jerk_mm_s3, 10000 * (1 + 1e-6));
+  ASSERT_FALSE(r.res.trace.rows.empty());
+  EXPECT_EQ(r.res.trace.rows.back().cmd[1], 73.853);
+}

@@ -74,6 +74,14 @@ const Setpoint& Interpolator::step_jerk(double dt) {
     j_now *= scale;
   };
   const bool at_cruise = vt > 0 && v_ == vt && a_ == 0;
+  // A step from rest is also a second difference of step/dt² (and −step/dt² after it): within half
+  // the block's acceleration, where an axis without a jerk limit makes the path's J huge (a
+  // fuzzer's stub moving X by 1e-5 of its length, X with a jerk limit and Y without: J 1.3e8 mm/s³,
+  // J·dt³/8 = 16 µm, and a 8.3 µm stub taken in one step was 8.3× Y's acceleration).
+  const auto rest_step = [dt](double j, double a) { return std::min(j * dt * dt * dt / 8, a * dt * dt / 2); };
+  // At rest a hair short of the front block's end, waiting for the snap onto it (below).
+  const double j_f = jerk_of(f, dt), settle = std::min(1e-9, rest_step(j_f, f.a_mm_s2));
+  const bool settling = v_ == 0 && a_ == 0 && f.length - s_ > 1e-6 * j_f * dt * dt * dt && f.length - s_ <= settle;
   if (!at_cruise) walk_limits();
   const ProfileState now{0, v_, a_, 0};
 
@@ -283,6 +291,13 @@ const Setpoint& Interpolator::step_jerk(double dt) {
     const PathStep ease = ramp_cycle(now, vt, a_c, j_now, dt);
     if (ease.x.v > step.x.v) take_if_safe(ease);
   }
+  // Settling onto a block's end (below): at rest, a hair short of it, every move is a zero step
+  // until the three cycles of rest let the snap take that hair as the only motion in its third
+  // differences.
+  if (settling) {
+    step = jerk_cycle(now, 0, dt);
+    taken = GuardVerdict{};
+  }
   cert_ = taken;
   // The stop plan is kept only while its steps are the ones taken.
   stop_plan_.taken(config_.keep_stop_plan && asked_stop && step.x.s == stop_x.s && step.x.v == stop_x.v &&
@@ -302,19 +317,24 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   rest_cycles_ = x.s == 0 && v_ == 0 && a_ == 0 ? rest_cycles_ + 1 : 0;
   const double left = f.length - s_;
   const bool at_stop = n < 2 || ring.at(1).v2_junction <= 0;
-  // A step from rest is also a second difference of step/dt² (and −step/dt² after it): within half
-  // the block's acceleration, where an axis without a jerk limit makes the path's J huge (a
-  // fuzzer's stub moving X by 1e-5 of its length, X with a jerk limit and Y without: J 1.3e8 mm/s³,
-  // J·dt³/8 = 16 µm, and a 8.3 µm stub taken in one step was 8.3× Y's acceleration).
-  const auto rest_step = [dt](double j, double a) { return std::min(j * dt * dt * dt / 8, a * dt * dt / 2); };
   // Only where the step ended on or before the block's end (to its rounding): a position-mode stop
   // that came to rest past it, inside the next block, was pulled back onto the junction (a fuzzer's
   // 0.1 µm last line: Y 1.09× its jerk where the path went on from there); the pass below carries
   // such a step into the next block instead.
+  // A hair short of the end (up to 1e-9 mm) is snapped onto it at once only where that hair is
+  // noise against one cycle's jerk step (1e-6 of j·dt³); a longer one, after three cycles of rest
+  // (`settle`): a brake to rest landed 2.5e-10 mm short of a program's end, and the snap in the
+  // same cycle as the brake's last jerk phase added 2.5e-10/dt³ to it (a fuzzer's case: Y 1.0016×
+  // its 10 000 mm/s³ at 0.25 ms). Snapping only the noise and letting the follower land the rest
+  // crept there for 0.4 s at 1e-9 mm/s, neither moving nor at rest.
   if (v_ <= 1e-9 && std::abs(a_) <= 1e-6 && left >= -1e-9 &&
-      (left <= 1e-9 || (at_stop && !h && rest_cycles_ >= 3 && left <= rest_step(jerk_of(f, dt), f.a_mm_s2)))) {
+      (left <= 1e-6 * j_f * dt * dt * dt || (left > settle && left <= 1e-9) || (left <= settle && rest_cycles_ >= 3) ||
+       (at_stop && !h && rest_cycles_ >= 3 && left <= rest_step(j_f, f.a_mm_s2)))) {
     s_ = f.length;
     v_ = 0;
+    a_ = 0;
+  } else if (v_ <= 1e-9 && std::abs(a_) <= 1e-6 && left > 0 && left <= settle) {
+    v_ = 0;  // settling: the next cycles take zero steps (`settling`) until the snap above
     a_ = 0;
   } else if (rest_cycles_ >= 3 && !h && vt > 0 && std::isfinite(f.j_mm_s3)) {
     // At rest, and refused every move for three cycles, before blocks so short and slow that one
