@@ -2,6 +2,7 @@
 #include "report/programmed_path.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 
@@ -50,9 +51,10 @@ ProgrammedPath programmed_path(const program::Program& prog) {
     m.instruction = i;
     m.kind = std::holds_alternative<program::Rapid>(op) ? MoveKind::Rapid : tool_on ? MoveKind::Cut : MoveKind::Feed;
     m.line = seg.kind == motion::SegmentKind::Line;
-    m.start = seg.start;
+    // A line starts where the walk stands (control::to_segment builds it from there): the move
+    // before's end, which start_of gives back.
+    assert(!m.line || seg.start == pos);
     m.end = seg.end;
-    m.dir = seg.dir;
     m.length = seg.length;
     if (!m.line) {
       m.curve = static_cast<std::uint32_t>(pp.curves.size());
@@ -98,15 +100,17 @@ void ProgrammedPath::box(const ProgrammedMove& m, core::Vec& lo, core::Vec& hi) 
     hi = curve_box[m.curve].hi;
     return;
   }
-  motion::line_bounds(m.start, m.end, lo, hi);
+  motion::line_bounds(start_of(m), m.end, lo, hi);
 }
 
 motion::Segment ProgrammedPath::segment(const ProgrammedMove& m) const {
-  return m.line ? motion::make_line(m.start, m.end) : curves[m.curve];
+  return m.line ? motion::make_line(start_of(m), m.end) : curves[m.curve];
 }
 
 double ProgrammedPath::distance(const ProgrammedMove& m, const core::Vec& p, double enough) const {
-  return m.line ? motion::line_distance(m.start, m.dir, m.length, p) : curves[m.curve].distance_to(p, enough);
+  if (!m.line) return curves[m.curve].distance_to(p, enough);
+  const core::Vec& a = start_of(m);
+  return motion::line_distance(a, motion::line_direction(a, m.end, m.length), m.length, p);
 }
 
 std::pair<std::size_t, std::size_t> ProgrammedPath::moves_around(std::uint32_t tag, std::uint32_t tag_last) const {

@@ -14,16 +14,17 @@ namespace softmc::report {
 
 enum class MoveKind : std::uint8_t { Rapid, Feed, Cut };  // Cut = feed move with the tool on
 
-// A line is kept as its ends (a whole motion::Segment is 1.3 kB, most of it a curve's: a 200 000-line
-// CAM program's moves were 300 MB); arcs and curves as a Segment in ProgrammedPath::curves.
+// A line is kept as its end (a whole motion::Segment is 1.3 kB, most of it a curve's: a 200 000-line
+// CAM program's moves were 300 MB); its start is the move before's end (or the path's start), its
+// direction derived from both as motion::make_line derives it. Arcs and curves are a Segment in
+// ProgrammedPath::curves.
 struct ProgrammedMove {
-  std::size_t instruction = 0;  // index into Program::instructions
+  std::uint32_t instruction = 0;  // index into Program::instructions
+  std::uint32_t curve = 0;        // not a line: its index into ProgrammedPath::curves
   MoveKind kind = MoveKind::Feed;
   bool line = true;
-  core::Vec start, end;
-  core::Vec dir;                // a line's unit direction, as motion::make_line sets it
-  double length = 0;            // mm
-  std::uint32_t curve = 0;      // not a line: its index into ProgrammedPath::curves
+  double length = 0;  // mm
+  core::Vec end;
   // (Its bounding box is ProgrammedPath::box: a line's from its ends, a curve's kept with it.)
 };
 
@@ -58,6 +59,11 @@ struct ProgrammedPath {
   static constexpr std::size_t kMovesPerGroup = 32;
   std::vector<MoveGroup> groups;  // moves [k·kMovesPerGroup, (k+1)·kMovesPerGroup) in groups[k]
 
+  // Where move m starts: where the move before it ended (the path's start for the first). The
+  // functions below take a move of `moves` (by reference, as iterating them gives it).
+  const core::Vec& start_of(const ProgrammedMove& m) const {
+    return &m == moves.data() ? start : (&m - 1)->end;
+  }
   // The move's bounding box (every point of it inside: p's distance from the box is a lower bound of
   // its distance from the move), as Segment::bounds gives it.
   void box(const ProgrammedMove& m, core::Vec& lo, core::Vec& hi) const;

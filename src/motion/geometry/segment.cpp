@@ -79,7 +79,7 @@ void set_line(Segment& s, const Vec& start, const Vec& end) {
   s.start = start;
   s.end = end;
   s.length = core::distance(start, end);
-  s.dir = s.length > 0 ? (end - start) * (1.0 / s.length) : Vec{};
+  s.dir = line_direction(start, end, s.length);
   s.axis0 = 0;
   s.axis1 = 1;
   s.c0 = s.c1 = s.radius = s.theta0 = s.sweep = s.dradius = s.plane_rate = 0;
@@ -247,6 +247,10 @@ Vec Segment::curvature(double s) const {
 }
 
 // rt-safe
+Vec line_direction(const Vec& start, const Vec& end, double length) {
+  return length > 0 ? (end - start) * (1.0 / length) : Vec{};
+}
+
 double line_distance(const Vec& start, const Vec& dir, double length, const Vec& p) {
   if (length <= 0) return core::distance(p, start);
   const double t = std::clamp(core::dot(p - start, dir), 0.0, length);

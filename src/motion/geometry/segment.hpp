@@ -95,6 +95,8 @@ struct Segment {
 // of a line, also for holders of a line's ends that do not keep a whole Segment (report::ProgrammedMove).
 // rt-safe.
 double line_distance(const Vec& start, const Vec& dir, double length, const Vec& p);
+// A line's unit direction from its ends and length (core::distance of them), as set_line sets it.
+Vec line_direction(const Vec& start, const Vec& end, double length);
 // The box of the line from a to b (Segment::bounds of a line, and of an arc before its in-plane
 // extremes; also report::ProgrammedPath's lines, kept as their ends). rt-safe.
 void line_bounds(const Vec& a, const Vec& b, Vec& lo, Vec& hi);

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "control/path.hpp"
 #include "program/iso/parser.hpp"
 
 using namespace softmc;
@@ -105,30 +106,39 @@ TEST(ProgrammedPath, DeviationSearchIsExactOnSpirals) {
   }
 }
 
-// A line is kept as its ends, not as a 1.3 kB Segment: its distance is Segment::distance_to's to the
-// last bit (the summaries' deviations depend on it), and the move gives back the same segment.
+// A line is kept as its end, not as a 1.3 kB Segment: its start (the move before's end), its
+// distance (Segment::distance_to's to the last bit: the summaries' deviations depend on it) and its
+// segment are the walk's own (control::visit_program_geometry, as the channel builds them).
 TEST(ProgrammedPath, ALineKeptAsItsEndsMeasuresAsItsSegment) {
   auto r = program::iso::parse("G21 G90\nG0 X1 Y2 Z3\nG1 X40.5 Y-7.25 Z3 F600\nG1 X40.5 Y-7.25 Z3\nG1 X-3 Y5 Z9\n"
-                               "G2 X10 Y5 I6.5 J0\nM30\n", "lines.ngc");
+                               "G2 X10 Y5 I6.5 J0\nG1 X0.1 Y0.3 Z0.7\nM30\n", "lines.ngc");
   ASSERT_TRUE(r.program);
   const auto pp = report::programmed_path(*r.program);
+  std::vector<motion::Segment> walk;
+  control::visit_program_geometry(*r.program, [&](std::uint32_t, const motion::Segment& s) { walk.push_back(s); });
+  ASSERT_EQ(walk.size(), pp.moves.size());
   std::mt19937_64 rng(28);
   std::uniform_real_distribution<double> u(-60, 60);
   int lines = 0, arcs = 0;
-  for (const auto& m : pp.moves) {
+  for (std::size_t k = 0; k < pp.moves.size(); ++k) {
+    const auto& m = pp.moves[k];
+    const motion::Segment& want = walk[k];
     const motion::Segment seg = pp.segment(m);
     (m.line ? lines : arcs) += 1;
-    EXPECT_EQ(seg.kind == motion::SegmentKind::Line, m.line);
-    EXPECT_EQ(seg.start, m.start);
-    EXPECT_EQ(seg.end, m.end);
-    EXPECT_EQ(seg.length, m.length);
-    for (int k = 0; k < 200; ++k) {
+    EXPECT_EQ(want.kind == motion::SegmentKind::Line, m.line);
+    EXPECT_EQ(seg.kind, want.kind);
+    EXPECT_EQ(pp.start_of(m), want.start);
+    EXPECT_EQ(seg.start, want.start);
+    EXPECT_EQ(seg.end, want.end);
+    EXPECT_EQ(seg.dir, want.dir);
+    EXPECT_EQ(seg.length, want.length);
+    for (int n = 0; n < 200; ++n) {
       core::Vec p;
       for (int i = 0; i < 3; ++i) p[static_cast<std::size_t>(i)] = u(rng);
-      EXPECT_EQ(pp.distance(m, p), seg.distance_to(p)) << m.instruction;
+      EXPECT_EQ(pp.distance(m, p), want.distance_to(p)) << m.instruction;
     }
   }
-  EXPECT_EQ(lines, 4);  // the rapid, two lines and the zero-length one
+  EXPECT_EQ(lines, 5);  // the rapid, three lines and the zero-length one
   EXPECT_EQ(arcs, 1);
   EXPECT_EQ(pp.curves.size(), 1u);
 }
