@@ -287,7 +287,8 @@ void write_one(Out& o, const Program& prog, const Instruction& ins, core::AxisMa
     text(o, prog.files[ins.loc.file]);
   }
   std::visit(
-      [&](const auto& op) {
+      [&](const auto& alt) {
+        const auto& op = program::unboxed(alt);  // a Boxed payload as itself
         using T = std::decay_t<decltype(op)>;
         using namespace program;
         if constexpr (std::is_same_v<T, Rapid>) {

@@ -166,7 +166,7 @@ void Channel::load(const program::Program& prog) {
 bool Channel::push_curve(int& budget) {
   const program::Op& op = prog_->instructions[pc_].op;
   double feed = 0;
-  if (const auto* b = std::get_if<program::Bezier>(&op)) feed = b->feed_mm_s;
+  if (const auto* b = program::op_if<program::Bezier>(op)) feed = b->feed_mm_s;
   if (const auto* nb = std::get_if<program::Nurbs>(&op)) feed = nb->feed_mm_s;
   if (const auto* l = std::get_if<program::Linear>(&op)) feed = l->feed_mm_s;  // a smoothed line
   if (const auto* a = std::get_if<program::Arc>(&op)) feed = a->feed_mm_s;     // an arc in pieces

@@ -29,12 +29,12 @@ bool to_segment(const program::Op& op, const core::Vec& from, motion::Segment& o
 }
 
 bool is_curve(const program::Op& op) {
-  return std::holds_alternative<program::Bezier>(op) || std::holds_alternative<program::Nurbs>(op);
+  return program::op_holds<program::Bezier>(op) || std::holds_alternative<program::Nurbs>(op);
 }
 
 motion::CurveError append_curve_segments(const program::Op& op, const core::Vec& from,
                                          std::vector<motion::Segment>& out) {
-  if (const auto* b = std::get_if<program::Bezier>(&op)) {
+  if (const auto* b = program::op_if<program::Bezier>(op)) {
     // G5 (cubic) or G5.1 (quadratic): the control polygon starts where the machine is.
     std::array<core::Vec, 4> ctrl{from, b->ctrl1, b->ctrl2, b->end};
     if (b->degree == 2) ctrl[2] = b->end;

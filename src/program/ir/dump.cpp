@@ -28,7 +28,7 @@ AxisMask used_axes(const Program& p) {
     if (auto* r = std::get_if<Rapid>(&ins.op)) note(r->end);
     if (auto* l = std::get_if<Linear>(&ins.op)) note(l->end);
     if (auto* a = std::get_if<Arc>(&ins.op)) note(a->end);
-    if (auto* b = std::get_if<Bezier>(&ins.op)) note(b->end);
+    if (auto* b = op_if<Bezier>(ins.op)) note(b->end);
   }
   return m;
 }
@@ -41,7 +41,8 @@ std::string dump(const Program& p) {
   for (const auto& ins : p.instructions) {
     out += fmt::format("{:>5}:{:<3} ", ins.loc.line, ins.loc.col);
     std::visit(
-        [&](const auto& op) {
+        [&](const auto& alt) {
+          const auto& op = program::unboxed(alt);  // a Boxed payload as itself
           using T = std::decay_t<decltype(op)>;
           if constexpr (std::is_same_v<T, Rapid>) {
             out += fmt::format("rapid {}", fmt_vec(op.end, used));

@@ -8,7 +8,9 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
+#include <type_traits>
 #include <variant>
 #include <vector>
 
@@ -67,11 +69,57 @@ struct ProgramEnd {
   bool rewind = false;
 };
 
+// A payload kept on the heap, shared and immutable, so that the rare large ones (a G5's control
+// points, the offsets: 232 bytes each) do not set the size of every Instruction: a CAM program's
+// lines are 128 bytes each instead of 256. Read it through op_if / op_holds, which see through
+// the box.
+template <class T>
+class Boxed {
+ public:
+  Boxed(T v) : p_(std::make_shared<const T>(std::move(v))) {}  // NOLINT: implicit, as the payload itself
+  const T& operator*() const { return *p_; }
+  const T* operator->() const { return p_.get(); }
+
+ private:
+  std::shared_ptr<const T> p_;
+};
+
 using Op = std::variant<Rapid, Linear, Arc, Dwell, ToolSwitch, MFunction, ProgramEnd,
                         SpcMove, SpcAxisSetting, SpcDwell, SpcJump, SpcCall, SpcReturn, SpcEnd, SpcSync,
                         SpcPosReg, SpcIntReg, SpcBitTest, SpcBitWrite,
-                        Bezier, Nurbs, PathMode, SpindleSpeed, ToolSelect, ToolChange, Pause, OffsetsChanged,
-                        DigitalOutput, WaitInput, Message>;
+                        Boxed<Bezier>, Nurbs, PathMode, SpindleSpeed, ToolSelect, ToolChange, Pause,
+                        Boxed<OffsetsChanged>, DigitalOutput, WaitInput, Message>;
+
+namespace detail {
+template <class T, class V>
+struct IsAlternative;
+template <class T, class... Ts>
+struct IsAlternative<T, std::variant<Ts...>> : std::disjunction<std::is_same<T, Ts>...> {};
+}  // namespace detail
+
+// The op's payload of type T, or nullptr: std::get_if that sees through Boxed.
+template <class T>
+const T* op_if(const Op& op) {
+  if constexpr (detail::IsAlternative<Boxed<T>, Op>::value) {
+    const auto* b = std::get_if<Boxed<T>>(&op);
+    return b ? &**b : nullptr;
+  } else {
+    return std::get_if<T>(&op);
+  }
+}
+template <class T>
+bool op_holds(const Op& op) {
+  return op_if<T>(op) != nullptr;
+}
+// The payload of a visited alternative (Boxed<T> → T).
+template <class T>
+const T& unboxed(const T& v) {
+  return v;
+}
+template <class T>
+const T& unboxed(const Boxed<T>& v) {
+  return *v;
+}
 
 struct Instruction {
   SourceLoc loc;

@@ -28,7 +28,7 @@ template <class T>
 std::vector<T> all(const Program& p) {
   std::vector<T> out;
   for (const auto& i : p.instructions)
-    if (const auto* x = std::get_if<T>(&i.op)) out.push_back(*x);
+    if (const auto* x = op_if<T>(i.op)) out.push_back(*x);
   return out;
 }
 

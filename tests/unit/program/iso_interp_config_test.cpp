@@ -22,7 +22,7 @@ template <class T>
 std::vector<T> all(const Program& p) {
   std::vector<T> v;
   for (const auto& i : p.instructions)
-    if (const auto* x = std::get_if<T>(&i.op)) v.push_back(*x);
+    if (const auto* x = op_if<T>(i.op)) v.push_back(*x);
   return v;
 }
 
