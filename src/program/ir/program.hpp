@@ -126,6 +126,10 @@ struct Instruction {
   Op op;
 };
 
+// A CAM program's IR is mostly lines: keep each Instruction at 128 bytes (a new large payload goes
+// in a Boxed, as Bezier and OffsetsChanged do).
+static_assert(sizeof(Instruction) <= 128, "a large IR payload belongs in a Boxed");
+
 struct Program {
   std::vector<std::string> files;  // files[loc.file]; files[0] is the main program
   std::vector<Instruction> instructions;
