@@ -408,12 +408,10 @@ std::optional<LineError> Exec::arc(std::uint32_t col) {
   if (b.has(cn)) return error(b.word(cn)->col, fmt::format("{} word in a {} arc: the centre is given by {} and {}", cn,
                                                             st.plane == Plane::XY ? "G17" : st.plane == Plane::XZ ? "G18" : "G19", c0, c1));
   const bool r_format = b.has('R');
-  if (!b.has(l0) && !b.has(l1)) {
-    if (r_format) return error(col, fmt::format("{} and {} words both missing for an R-format arc", l0, l1));
-    if (st.plane == Plane::XY)
-      return error(col, "X and Y words both missing for an arc in the XY plane (a full circle repeats the end point)");
-    return error(col, fmt::format("{} and {} words both missing for an arc in this plane", l0, l1));
-  }
+  // Without either plane word a centre-format arc ends where it starts: a full circle (LinuxCNC 2.9's
+  // rs274 takes `G2 I5 J0` so, and CAM posts write full circles that way); an R-format arc cannot.
+  if (!b.has(l0) && !b.has(l1) && r_format)
+    return error(col, fmt::format("{} and {} words both missing for an R-format arc", l0, l1));
   if (r_format && (b.has(c0) || b.has(c1)))
     return error(b.word('R')->col, "R word together with centre words: give the arc either a radius or a centre");
   if (!r_format && !b.has(c0) && !b.has(c1))

@@ -80,8 +80,7 @@ TEST(IsoDiagnostics, WordsWithNothingToUseThem) {
 TEST(IsoDiagnostics, ArcErrors) {
   EXPECT_EQ(one_error("G0 X10\nG3 X0 Y10 F60\n"),
             "t.ngc:2:1: error: I and J words both missing: give the arc centre with I and/or J");
-  EXPECT_EQ(one_error("G0 X10\nG3 I-10 F60\n"),
-            "t.ngc:2:1: error: X and Y words both missing for an arc in the XY plane (a full circle repeats the end point)");
+  EXPECT_EQ(one_error("G0 X10\nG3 R10 F60\n"), "t.ngc:2:1: error: X and Y words both missing for an R-format arc");
   EXPECT_EQ(one_error("G0 X10\nG3 X0 Y10 I0 J0 F60\n"),
             "t.ngc:2:1: error: zero-radius arc: centre (10.0000, 0.0000) is on the start or end point");
   EXPECT_EQ(one_error("G0 X10\nG3 X0 Y10 I-10 P0 F60\n"),

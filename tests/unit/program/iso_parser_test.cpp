@@ -117,6 +117,27 @@ TEST(IsoParser, PWordAddsFullTurns) {
   EXPECT_EQ(op_at<Arc>(p, 3).turns, -1);  // end == start: one full circle
 }
 
+// Without plane words a centre-format arc is a full circle from where it stands, as LinuxCNC 2.9's
+// rs274 reads it (ARC_FEED back to the start: `G2 I5 J0`, `G3 I5 K0` in G18, and a helix `G2 Z-1 I5 J0`).
+TEST(IsoParser, ACentreArcWithoutPlaneWordsIsAFullCircle) {
+  const auto p = parse_ok("G0 X10 Y10\nG2 I5 J0 F100\nG18\nG0 X0 Z0\nG3 I5 K0\nG17\nG2 Z-1 I5 J0\n");
+  const auto& xy = op_at<Arc>(p, 1);
+  EXPECT_EQ(xy.end, xyz(10, 10));
+  EXPECT_EQ(xy.center0, 15.0);
+  EXPECT_EQ(xy.center1, 10.0);
+  EXPECT_EQ(xy.turns, -1);
+  const auto& xz = op_at<Arc>(p, 3);  // G18: the plane (Z, X), centre Z0 X5, counter-clockwise
+  EXPECT_EQ(xz.end, xyz(0, 10, 0));
+  EXPECT_EQ(xz.center0, 0.0);
+  EXPECT_EQ(xz.center1, 5.0);
+  EXPECT_EQ(xz.turns, 1);
+  const auto& helix = op_at<Arc>(p, 4);
+  EXPECT_EQ(helix.end, xyz(0, 10, -1));
+  EXPECT_EQ(helix.center0, 5.0);
+  EXPECT_EQ(helix.center1, 10.0);
+  EXPECT_EQ(helix.turns, -1);
+}
+
 TEST(IsoParser, HelixMovesZAlongTheArc) {
   const auto p = parse_ok("G0 X10\nG3 X-10 Y0 Z-5 I-10 F120\n");
   const auto& a = op_at<Arc>(p, 1);
