@@ -140,10 +140,12 @@ FlowIndex index_flow(const std::vector<std::string_view>& lines, std::vector<Ind
         break;
       }
       case OKeyword::Return: {
+        // Any O-number inside a subroutine's definition returns from it (LinuxCNC 2.9: `o1010 return`
+        // inside sub o1000's `o1010 if` returns from o1000); outside every definition it is an error.
         bool in_sub = false;
         for (const auto& s : stack)
-          if (idx.entries[s.entry].o.keyword == OKeyword::Sub && idx.entries[s.entry].o.name == cur.o.name) in_sub = true;
-        if (!in_sub) err(n, cur.o.col, fmt::format("{} outside subroutine o{}", label(cur.o), cur.o.name));
+          if (idx.entries[s.entry].o.keyword == OKeyword::Sub) in_sub = true;
+        if (!in_sub) err(n, cur.o.col, fmt::format("{} outside a subroutine definition", label(cur.o)));
         cur.valid = in_sub;
         break;
       }

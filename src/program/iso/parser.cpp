@@ -419,10 +419,12 @@ class ProgramReader {
       case OKeyword::Sub: pc = e.end + 1; return;  // a definition: skipped until called
       case OKeyword::EndSub:
       case OKeyword::Return: {
+        // #<_value> is what this return gives, 0 without an expression (LinuxCNC 2.9: retval.ngc's
+        // bare `return` leaves 0, not the previous call's value); #<_value_returned> says which.
         OWord o;
-        if (eval_o(f, pc, o) && !o.args.empty()) {
-          params_.write_named("_value", o.args[0]);
-          params_.write_named("_value_returned", 1);
+        if (eval_o(f, pc, o)) {
+          params_.write_named("_value", o.args.empty() ? 0.0 : o.args[0]);
+          params_.write_named("_value_returned", o.args.empty() ? 0.0 : 1.0);
         }
         if (frames_.size() <= 1) {
           add_error(f, pc, e.o.col, fmt::format("o{} {} reached outside a call", e.o.name, to_string(e.o.keyword)));

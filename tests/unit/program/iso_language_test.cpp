@@ -179,6 +179,22 @@ TEST(IsoControlFlow, NumberedSubroutineAndRecursion) {
   EXPECT_EQ(rapid_x(p), (std::vector<double>{120}));
 }
 
+// A return's O-number need not be its subroutine's: inside a definition any `oN return` returns from
+// it, as in LinuxCNC 2.9's retval.ngc (`o1010 return` inside sub o1000's `o1010 if`); outside every
+// definition it is an error.
+TEST(IsoControlFlow, AReturnUnderAnyONumberReturnsFromItsSubroutine) {
+  const auto p = parse_ok(
+      "o1000 sub\n"
+      "o1010 if [#1 GT 0]\no1010 return [123 * #1]\no1010 endif\n"
+      "o1020 if [#1 LT 0]\no1020 return\no1020 endif\n"
+      "o1000 endsub [4712]\n"
+      "o1000 call [0]\nG0 X#<_value>\n"
+      "o1000 call [2]\nG0 X#<_value>\n"
+      "o1000 call [-1]\nG0 X#<_value>\n");
+  EXPECT_EQ(rapid_x(p), (std::vector<double>{4712, 246, 0}));
+  EXPECT_EQ(one_error("o9999 return [7]\nM2\n"), "t.ngc:1:1: error: o9999 return outside a subroutine definition");
+}
+
 TEST(IsoControlFlow, SubroutineFromAFileOnTheSearchPath) {
   const auto dir = std::filesystem::temp_directory_path() / "softmc_iso_subs";
   std::filesystem::create_directories(dir);
