@@ -23,6 +23,23 @@ char lower_letter(std::size_t axis) {
   return static_cast<char>(std::tolower(static_cast<unsigned char>(core::letter(axis))));
 }
 
+// "line 12" (the main program) or "sub.ngc:12", and the time.
+std::string where_text(const Summary& s, const Where& w) {
+  const std::string line = w.file > 0 && w.file < s.files.size() ? fmt::format("{}:{}", s.files[w.file], w.line)
+                                                                 : fmt::format("line {}", w.line);
+  return fmt::format("{} at {:.3f} s", line, w.t_s);
+}
+
+// {"t_s": …, "line": …} (and "file" when not the main program), or null where nothing was reached.
+nlohmann::ordered_json where_json(const Summary& s, const Where& w) {
+  if (w.line == 0) return nullptr;
+  nlohmann::ordered_json j;
+  j["t_s"] = w.t_s;
+  j["line"] = w.line;
+  if (w.file > 0 && w.file < s.files.size()) j["file"] = s.files[w.file];
+  return j;
+}
+
 }  // namespace
 
 SummaryBuilder::SummaryBuilder(const program::Program& prog, const machine::MachineConfig& cfg, double period_s,
@@ -32,6 +49,9 @@ SummaryBuilder::SummaryBuilder(const program::Program& prog, const machine::Mach
   s_.machine = cfg.name;
   s_.period_s = period_s;
   s_.axes = axes;
+  s_.files = prog.files;
+  loc_.reserve(prog.instructions.size());
+  for (const auto& ins : prog.instructions) loc_.push_back(ins.loc);
   // Lengths are the programmed ones: what the part needs, not what the planner made of it.
   for (const auto& m : path_.moves) {
     if (m.kind == MoveKind::Rapid) {
@@ -52,7 +72,19 @@ void SummaryBuilder::add(const TraceRow& row) {
   s.cycle_time_s = row.t_s;
   const double dt = s.period_s;
   const std::size_t r = rows_;
-  s.max_path_deviation_mm = std::max(s.max_path_deviation_mm, path_.deviation_mm(row.cmd, row.tag, row.tag_last, row.moving || row.stopped, s.max_path_deviation_mm));
+  const auto note = [&](Where& w) {
+    w.t_s = row.t_s;
+    w.line = row.tag < loc_.size() ? loc_[row.tag].line : 0;
+    w.file = row.tag < loc_.size() ? loc_[row.tag].file : 0;
+  };
+  // A new largest value, and where: the first row that reaches it.
+  const auto raise = [&](double& max, double v, Where& w) {
+    if (!(v > max)) return;
+    max = v;
+    note(w);
+  };
+  raise(s.max_path_deviation_mm, path_.deviation_mm(row.cmd, row.tag, row.tag_last, row.moving || row.stopped, s.max_path_deviation_mm),
+        s.deviation_at);
   s.max_path_speed_mm_s = std::max(s.max_path_speed_mm_s, row.path_v);
   for_each_axis(s.axes, [&](std::size_t i) {
     AxisSummary& a = s.axis[i];
@@ -60,14 +92,14 @@ void SummaryBuilder::add(const TraceRow& row) {
     s.max_following_error_mm = std::max(s.max_following_error_mm, a.max_following_error_mm);
     if (dt <= 0) return;
     // Finite differences of the setpoints: the planner's own velocity is not trusted here.
-    if (r >= 1) a.max_vel_mm_s = std::max(a.max_vel_mm_s, std::abs(row.cmd[i] - last_[0].cmd[i]) / dt);
+    if (r >= 1) raise(a.max_vel_mm_s, std::abs(row.cmd[i] - last_[0].cmd[i]) / dt, a.vel_at);
     if (r >= 2) {
       const double d2 = row.cmd[i] - 2 * last_[0].cmd[i] + last_[1].cmd[i];
-      a.max_acc_mm_s2 = std::max(a.max_acc_mm_s2, std::abs(d2) / (dt * dt));
+      raise(a.max_acc_mm_s2, std::abs(d2) / (dt * dt), a.acc_at);
     }
     if (r >= 3) {
       const double d3 = row.cmd[i] - 3 * last_[0].cmd[i] + 3 * last_[1].cmd[i] - last_[2].cmd[i];
-      a.max_jerk_mm_s3 = std::max(a.max_jerk_mm_s3, std::abs(d3) / (dt * dt * dt));
+      raise(a.max_jerk_mm_s3, std::abs(d3) / (dt * dt * dt), a.jerk_at);
     }
   });
   last_[2] = last_[1];
@@ -98,7 +130,8 @@ std::string to_text(const Summary& s) {
   line("feed", fmt::format("{:.3f} mm", s.feed_mm));
   line("rapid", fmt::format("{:.3f} mm", s.rapid_mm));
   line("path speed", fmt::format("{:.3f} mm/s max", s.max_path_speed_mm_s));
-  line("deviation", fmt::format("{:.6f} mm max (setpoints from the programmed path)", s.max_path_deviation_mm));
+  line("deviation", fmt::format("{:.6f} mm max (setpoints from the programmed path){}", s.max_path_deviation_mm,
+                                s.deviation_at.line > 0 ? ", " + where_text(s, s.deviation_at) : std::string{}));
   line("foll. error", fmt::format("{:.6f} mm max", s.max_following_error_mm));
   fmt::format_to(std::back_inserter(out), "{:<13}{:>14}{:>16}{:>18}{:>14}\n", "axis", "max vel mm/s", "max acc mm/s²",
                  "max jerk mm/s³", "max ferr mm");
@@ -133,9 +166,13 @@ std::string to_json(const Summary& s) {
     ja["max_acc_mm_s2"] = a.max_acc_mm_s2;
     ja["max_following_error_mm"] = a.max_following_error_mm;
     ja["max_jerk_mm_s3"] = a.max_jerk_mm_s3;  // added 2026-12-03: new fields go at the end (docs/cli.md)
+    ja["max_vel_at"] = where_json(s, a.vel_at);  // added 2026-12-05
+    ja["max_acc_at"] = where_json(s, a.acc_at);
+    ja["max_jerk_at"] = where_json(s, a.jerk_at);
     axes[std::string(1, lower_letter(i))] = std::move(ja);
   });
   j["axes"] = std::move(axes);
+  j["max_path_deviation_at"] = where_json(s, s.deviation_at);  // added 2026-12-05
   // A file name or fault text that is not UTF-8 must not make the summary itself fail.
   return j.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
 }

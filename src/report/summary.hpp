@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "machine/config.hpp"
 #include "program/ir/program.hpp"
@@ -14,11 +15,20 @@
 
 namespace softmc::report {
 
+// Where a largest value was first reached: the trace row's time and the program line of the
+// instruction it was tagged with (a difference: its newest row). line 0: never reached (no row).
+struct Where {
+  double t_s = 0;
+  std::uint32_t line = 0;
+  std::uint32_t file = 0;  // index into the program's files: 0 the main program, else a subroutine file
+};
+
 struct AxisSummary {
   double max_vel_mm_s = 0;            // largest |Δcmd/Δt| in the trace
   double max_acc_mm_s2 = 0;           // largest |Δ²cmd/Δt²|
   double max_jerk_mm_s3 = 0;          // largest |Δ³cmd/Δt³|
   double max_following_error_mm = 0;  // largest |cmd − act|
+  Where vel_at, acc_at, jerk_at;      // where each of the first three was reached
 };
 
 struct Summary {
@@ -36,6 +46,8 @@ struct Summary {
   double max_path_speed_mm_s = 0;
   core::AxisMask axes = 0;
   std::array<AxisSummary, core::kMaxAxes> axis{};
+  Where deviation_at;          // where max_path_deviation_mm was reached
+  std::vector<std::string> files;  // the program's files, for Where::file
 };
 
 // Computes every figure from the program (the programmed geometry) and the trace, row by row as
@@ -49,6 +61,7 @@ class SummaryBuilder {
  private:
   Summary s_;
   ProgrammedPath path_;
+  std::vector<core::SourceLoc> loc_;  // each instruction's source location (Where)
   std::array<TraceRow, 3> last_{};  // the rows before, newest first
   std::size_t rows_ = 0;
 };

@@ -196,9 +196,10 @@ TEST(Summary, JsonHasEveryFieldWithItsValue) {
   const auto j = nlohmann::json::parse(to_json(s));
   ASSERT_TRUE(j.is_object());
   for (const char* k : {"program", "machine", "result", "period_s", "cycles", "cycle_time_s", "cut_mm", "feed_mm",
-                        "rapid_mm", "max_path_deviation_mm", "max_following_error_mm", "max_path_speed_mm_s", "axes"})
+                        "rapid_mm", "max_path_deviation_mm", "max_following_error_mm", "max_path_speed_mm_s", "axes",
+                        "max_path_deviation_at"})
     EXPECT_TRUE(j.contains(k)) << k;
-  EXPECT_EQ(j.size(), 13u);
+  EXPECT_EQ(j.size(), 14u);  // and max_path_deviation_at (rounded_square has no source lines: null)
   EXPECT_EQ(j["program"], "examples/square.ngc");
   EXPECT_EQ(j["machine"], "cutting_table (built-in)");
   EXPECT_EQ(j["result"], "ok");
@@ -223,7 +224,7 @@ TEST(Summary, JsonHasEveryFieldWithItsValue) {
     EXPECT_DOUBLE_EQ(axes[a]["max_acc_mm_s2"].get<double>(), s.axis[i].max_acc_mm_s2);
     EXPECT_DOUBLE_EQ(axes[a]["max_following_error_mm"].get<double>(), s.axis[i].max_following_error_mm);
     EXPECT_DOUBLE_EQ(axes[a]["max_jerk_mm_s3"].get<double>(), s.axis[i].max_jerk_mm_s3);
-    EXPECT_EQ(axes[a].size(), 4u);
+    EXPECT_EQ(axes[a].size(), 7u);  // and max_vel_at, max_acc_at, max_jerk_at
   }
   EXPECT_NEAR(axes["x"]["max_following_error_mm"].get<double>(), 0.03, 1e-12);
 }
@@ -240,7 +241,8 @@ TEST(Summary, JsonFieldOrderIsTheDocumentedOne) {
   const std::string ja = to_json(one);
   EXPECT_LT(ja.find("\"max_vel_mm_s\""), ja.find("\"max_acc_mm_s2\""));
   EXPECT_LT(ja.find("\"max_following_error_mm\""), ja.find("\"max_jerk_mm_s3\""));
-  EXPECT_NE(ja.find("\"max_jerk_mm_s3\":0.0}}"), std::string::npos) << ja;
+  EXPECT_LT(ja.find("\"max_jerk_mm_s3\""), ja.find("\"max_vel_at\""));
+  EXPECT_NE(ja.find("\"max_jerk_at\":null}},\"max_path_deviation_at\":null}"), std::string::npos) << ja;
 }
 
 TEST(Summary, JsonSurvivesAFaultMessageThatIsNotUtf8) {
@@ -262,4 +264,52 @@ TEST(Summary, TextHasTheFiguresAndOneLinePerAxis) {
   EXPECT_NE(t.find("\n  Y "), std::string::npos) << t;
   EXPECT_EQ(t.find("\n  Z "), std::string::npos) << t;
   EXPECT_EQ(t.back(), '\n');
+}
+
+// Each largest value says where it was first reached: the row's time and the line of the
+// instruction the row was tagged with (a difference: its newest row), as JSON and, for the deviation,
+// in the text. A 1 mm spike of X in the middle of the dwell (instruction 9, on line 10 of a
+// subroutine file): the speed is first largest at the spike's row, the acceleration and jerk one
+// row later (δ, −2δ, δ and δ, −3δ, 3δ, −δ); a shifted sample on line 6 makes the deviation.
+TEST(Summary, EachLargestValueSaysWhereItWasFirstReached) {
+  auto prog = rounded_square();
+  prog.files.push_back("sub.ngc");
+  for (std::size_t i = 0; i < prog.instructions.size(); ++i) prog.instructions[i].loc.line = static_cast<std::uint32_t>(i + 1);
+  prog.instructions[9].loc.file = 1;
+  auto tr = sample_program(prog);
+  std::vector<std::size_t> dwell, edge;
+  for (std::size_t i = 0; i < tr.rows.size(); ++i) {
+    if (tr.rows[i].tag == 9) dwell.push_back(i);
+    if (tr.rows[i].tag == 5 && tr.rows[i].moving) edge.push_back(i);
+  }
+  ASSERT_GT(dwell.size(), 10u);
+  ASSERT_FALSE(edge.empty());
+  const std::size_t k = dwell[dwell.size() / 2], e = edge[edge.size() / 2];
+  tr.rows[k].cmd[0] += 1.0;
+  tr.rows[e].cmd[1] += 2.0;  // far more than the spike's 1 mm off the path
+  const auto s = summarize(prog, test_table(), tr);
+  EXPECT_EQ(s.axis[0].vel_at.t_s, tr.rows[k].t_s);
+  EXPECT_EQ(s.axis[0].acc_at.t_s, tr.rows[k + 1].t_s);
+  EXPECT_EQ(s.axis[0].jerk_at.t_s, tr.rows[k + 1].t_s);
+  for (const Where* w : {&s.axis[0].vel_at, &s.axis[0].acc_at, &s.axis[0].jerk_at}) {
+    EXPECT_EQ(w->line, 10u);
+    EXPECT_EQ(w->file, 1u);
+  }
+  EXPECT_NEAR(s.max_path_deviation_mm, 2.0, 1e-9);
+  EXPECT_EQ(s.deviation_at.t_s, tr.rows[e].t_s);
+  EXPECT_EQ(s.deviation_at.line, 6u);
+  EXPECT_EQ(s.deviation_at.file, 0u);
+  const auto j = nlohmann::json::parse(to_json(s));
+  EXPECT_EQ(j["max_path_deviation_at"]["line"], 6);
+  EXPECT_DOUBLE_EQ(j["max_path_deviation_at"]["t_s"].get<double>(), tr.rows[e].t_s);
+  EXPECT_FALSE(j["max_path_deviation_at"].contains("file"));
+  EXPECT_EQ(j["axes"]["x"]["max_jerk_at"]["line"], 10);
+  EXPECT_EQ(j["axes"]["x"]["max_jerk_at"]["file"], "sub.ngc");
+  EXPECT_NE(to_text(s).find(fmt::format("(setpoints from the programmed path), line 6 at {:.3f} s", tr.rows[e].t_s)),
+            std::string::npos)
+      << to_text(s);
+  // Nothing reached (no rows): null, and the text says nothing of where.
+  const auto none = summarize(prog, test_table(), Trace{});
+  EXPECT_TRUE(nlohmann::json::parse(to_json(none))["max_path_deviation_at"].is_null());
+  EXPECT_NE(to_text(none).find("(setpoints from the programmed path)\n"), std::string::npos);
 }
