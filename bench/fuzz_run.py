@@ -157,12 +157,16 @@ while time.time() < until:
             # within P of the program; the largest P the program sets bounds them all.
             p_max = max([float(m) for m in re.findall(r"G64 P([0-9.]+)", text)] + [0.0])
             dev = d.get("max_path_deviation_mm", 0.0)
-            if dev > p_max * (1 + 1e-6) + 1e-6: why.append(f"deviation {dev:.6g} mm > P {p_max:g}")
+            # Where (the summary's *_at: time and line), so the failure is found in the program.
+            def at(w): return f" (line {w['line']} at {w['t_s']:.4f} s)" if w else ""
+            if dev > p_max * (1 + 1e-6) + 1e-6:
+                why.append(f"deviation {dev:.6g} mm > P {p_max:g}{at(d.get('max_path_deviation_at'))}")
             for a in "xyz":
                 v, acc, j = lim[a]; m = d["axes"][a]
-                if m["max_vel_mm_s"] > v * (1 + 1e-6) + 1e-6: why.append(f"{a} v {m['max_vel_mm_s']/v:.6f}")
-                if m["max_acc_mm_s2"] > acc * (1 + 1e-6) + 1e-3: why.append(f"{a} a {m['max_acc_mm_s2']/acc:.6f}")
-                if j > 0 and m["max_jerk_mm_s3"] > j * (1 + 1e-4) + 2: why.append(f"{a} j {m['max_jerk_mm_s3']/j:.6f}")
+                if m["max_vel_mm_s"] > v * (1 + 1e-6) + 1e-6: why.append(f"{a} v {m['max_vel_mm_s']/v:.6f}{at(m.get('max_vel_at'))}")
+                if m["max_acc_mm_s2"] > acc * (1 + 1e-6) + 1e-3: why.append(f"{a} a {m['max_acc_mm_s2']/acc:.6f}{at(m.get('max_acc_at'))}")
+                if j > 0 and m["max_jerk_mm_s3"] > j * (1 + 1e-4) + 2:
+                    why.append(f"{a} j {m['max_jerk_mm_s3']/j:.6f}{at(m.get('max_jerk_at'))}")
     if why:
         save(why)
     if n_prog % 20 == 0:
