@@ -70,10 +70,11 @@ class SummaryBuilder {
 Summary summarize(const program::Program& prog, const machine::MachineConfig& cfg, const Trace& trace);
 
 // The trace as CSV, row by row: t_s, then per configured axis <a>_cmd_mm, <a>_act_mm, <a>_vel_mm_s;
-// then path_v_mm_s, tool. Throws std::runtime_error when the file cannot be written.
+// then path_v_mm_s, tool, line (the source line of the instruction the row was tagged with; 0
+// without a program). Throws std::runtime_error when the file cannot be written.
 class TraceCsvWriter {
  public:
-  TraceCsvWriter(const std::string& path, core::AxisMask axes);
+  TraceCsvWriter(const std::string& path, core::AxisMask axes, const program::Program* prog = nullptr);
   ~TraceCsvWriter();
   TraceCsvWriter(const TraceCsvWriter&) = delete;
   TraceCsvWriter& operator=(const TraceCsvWriter&) = delete;
@@ -86,6 +87,7 @@ class TraceCsvWriter {
   std::FILE* f_ = nullptr;
   std::array<std::size_t, core::kMaxAxes> axes_{};
   std::size_t n_axes_ = 0;
+  std::vector<std::uint32_t> lines_;  // instruction → source line
   fmt::memory_buffer buf_;
 };
 
@@ -93,6 +95,6 @@ std::string to_text(const Summary& s);   // short human-readable block
 std::string to_json(const Summary& s);   // one JSON object (nlohmann-json), stable field names
 
 // CSV: t_s, then per configured axis <a>_cmd_mm, <a>_act_mm, <a>_vel_mm_s; then path_v_mm_s, tool.
-void write_trace_csv(const std::string& path, const Trace& trace);
+void write_trace_csv(const std::string& path, const Trace& trace, const program::Program* prog = nullptr);
 
 }  // namespace softmc::report

@@ -11,7 +11,11 @@
 
 namespace softmc::report {
 
-TraceCsvWriter::TraceCsvWriter(const std::string& path, core::AxisMask axes) : path_(path) {
+TraceCsvWriter::TraceCsvWriter(const std::string& path, core::AxisMask axes, const program::Program* prog) : path_(path) {
+  if (prog) {
+    lines_.reserve(prog->instructions.size());
+    for (const auto& ins : prog->instructions) lines_.push_back(ins.loc.line);
+  }
   f_ = std::fopen(path.c_str(), "wb");
   if (!f_) throw std::runtime_error(fmt::format("cannot open trace CSV {}: {}", path, std::strerror(errno)));
   for (std::size_t i = 0; i < core::kMaxAxes; ++i)
@@ -22,7 +26,7 @@ TraceCsvWriter::TraceCsvWriter(const std::string& path, core::AxisMask axes) : p
     const char a = static_cast<char>(std::tolower(static_cast<unsigned char>(core::letter(axes_[k]))));
     fmt::format_to(out, ",{0}_cmd_mm,{0}_act_mm,{0}_vel_mm_s", a);
   }
-  fmt::format_to(out, ",path_v_mm_s,tool\n");
+  fmt::format_to(out, ",path_v_mm_s,tool,line\n");
 }
 
 TraceCsvWriter::~TraceCsvWriter() {
@@ -42,7 +46,7 @@ void TraceCsvWriter::add(const TraceRow& r) {
   fmt::format_to(out, "{:.9g}", r.t_s);
   for (std::size_t k = 0; k < n_axes_; ++k)
     fmt::format_to(out, ",{:.9g},{:.9g},{:.9g}", r.cmd[axes_[k]], r.act[axes_[k]], r.vel[axes_[k]]);
-  fmt::format_to(out, ",{:.9g},{}\n", r.path_v, r.tool_on ? 1 : 0);
+  fmt::format_to(out, ",{:.9g},{},{}\n", r.path_v, r.tool_on ? 1 : 0, r.tag < lines_.size() ? lines_[r.tag] : 0u);
   if (buf_.size() >= kFlushBytes) flush();
 }
 
@@ -54,8 +58,8 @@ void TraceCsvWriter::close() {
     throw std::runtime_error(fmt::format("cannot write trace CSV {}: {}", path_, std::strerror(errno)));
 }
 
-void write_trace_csv(const std::string& path, const Trace& trace) {
-  TraceCsvWriter w(path, trace.axes);
+void write_trace_csv(const std::string& path, const Trace& trace, const program::Program* prog) {
+  TraceCsvWriter w(path, trace.axes, prog);
   for (const TraceRow& r : trace.rows) w.add(r);
   w.close();
 }

@@ -20,6 +20,8 @@ std::vector<std::string> read_lines(const std::string& path) {
   return lines;
 }
 
+std::uint32_t row_tag(const Trace& tr, std::size_t r) { return tr.rows[r].tag; }
+
 std::vector<std::string> split(const std::string& s) {
   std::vector<std::string> out;
   std::stringstream ss(s);
@@ -30,15 +32,18 @@ std::vector<std::string> split(const std::string& s) {
 
 TEST(TraceCsv, HeaderRowsAndRoundTrip) {
   const auto prog = rounded_square();
+  auto lined = prog;  // each instruction on line 10 + its index, as the source would give them
+  for (std::size_t i = 0; i < lined.instructions.size(); ++i) lined.instructions[i].loc.line = static_cast<std::uint32_t>(10 + i);
   const auto tr = sample_program(prog, {.acc_mm_s2 = 1000, .lag_tau_s = 0.01, .quantum_mm = 0.127});
   const std::string path = ::testing::TempDir() + "report_trace_test.csv";
-  write_trace_csv(path, tr);
+  write_trace_csv(path, tr, &lined);
   const auto lines = read_lines(path);
   ASSERT_EQ(lines.size(), tr.rows.size() + 1);
-  EXPECT_EQ(lines[0], "t_s,x_cmd_mm,x_act_mm,x_vel_mm_s,y_cmd_mm,y_act_mm,y_vel_mm_s,path_v_mm_s,tool");
+  EXPECT_EQ(lines[0], "t_s,x_cmd_mm,x_act_mm,x_vel_mm_s,y_cmd_mm,y_act_mm,y_vel_mm_s,path_v_mm_s,tool,line");
   for (std::size_t r : {std::size_t{0}, tr.rows.size() / 3, tr.rows.size() - 1}) {
     const auto f = split(lines[r + 1]);
-    ASSERT_EQ(f.size(), 9u) << lines[r + 1];
+    ASSERT_EQ(f.size(), 10u) << lines[r + 1];
+    EXPECT_EQ(f[9], std::to_string(10 + row_tag(tr, r))) << "row " << r;
     const auto& row = tr.rows[r];
     const double expect[] = {row.t_s,    row.cmd[0], row.act[0],
                              row.vel[0], row.cmd[1], row.act[1],
@@ -55,8 +60,8 @@ TEST(TraceCsv, HeaderRowsAndRoundTrip) {
   write_trace_csv(path, fine);
   const auto fl = read_lines(path);
   ASSERT_EQ(fl.size(), 2u);
-  EXPECT_EQ(fl[0], "t_s,x_cmd_mm,x_act_mm,x_vel_mm_s,path_v_mm_s,tool");
-  EXPECT_EQ(fl[1], "0,123.456789,0,0,0,1");
+  EXPECT_EQ(fl[0], "t_s,x_cmd_mm,x_act_mm,x_vel_mm_s,path_v_mm_s,tool,line");
+  EXPECT_EQ(fl[1], "0,123.456789,0,0,0,1,0");  // no program: line 0
 }
 
 TEST(TraceCsv, AxesInIndexOrderAndOnlyTheConfiguredOnes) {
@@ -68,7 +73,7 @@ TEST(TraceCsv, AxesInIndexOrderAndOnlyTheConfiguredOnes) {
   ASSERT_EQ(lines.size(), 1u);
   EXPECT_EQ(lines[0],
             "t_s,x_cmd_mm,x_act_mm,x_vel_mm_s,z_cmd_mm,z_act_mm,z_vel_mm_s,u_cmd_mm,u_act_mm,u_vel_mm_s,"
-            "path_v_mm_s,tool");
+            "path_v_mm_s,tool,line");
 }
 
 TEST(TraceCsv, UnopenableFileThrows) {
