@@ -8,6 +8,16 @@ using namespace softmc::program;
 using namespace softmc::program::iso::test;
 using iso::ParseOptions;
 
+namespace {
+// An arc's end, centre in its plane and signed turns, each exactly.
+void expect_arc(const Arc& a, const core::Vec& end, double c0, double c1, int turns) {
+  EXPECT_EQ(a.end, end);
+  EXPECT_EQ(a.center0, c0);
+  EXPECT_EQ(a.center1, c1);
+  EXPECT_EQ(a.turns, turns);
+}
+}  // namespace
+
 TEST(IsoParser, ProgramRecordsFileAndStart) {
   ParseOptions opt;
   opt.start = xyz(1, 2, 3);
@@ -121,21 +131,9 @@ TEST(IsoParser, PWordAddsFullTurns) {
 // rs274 reads it (ARC_FEED back to the start: `G2 I5 J0`, `G3 I5 K0` in G18, and a helix `G2 Z-1 I5 J0`).
 TEST(IsoParser, ACentreArcWithoutPlaneWordsIsAFullCircle) {
   const auto p = parse_ok("G0 X10 Y10\nG2 I5 J0 F100\nG18\nG0 X0 Z0\nG3 I5 K0\nG17\nG2 Z-1 I5 J0\n");
-  const auto& xy = op_at<Arc>(p, 1);
-  EXPECT_EQ(xy.end, xyz(10, 10));
-  EXPECT_EQ(xy.center0, 15.0);
-  EXPECT_EQ(xy.center1, 10.0);
-  EXPECT_EQ(xy.turns, -1);
-  const auto& xz = op_at<Arc>(p, 3);  // G18: the plane (Z, X), centre Z0 X5, counter-clockwise
-  EXPECT_EQ(xz.end, xyz(0, 10, 0));
-  EXPECT_EQ(xz.center0, 0.0);
-  EXPECT_EQ(xz.center1, 5.0);
-  EXPECT_EQ(xz.turns, 1);
-  const auto& helix = op_at<Arc>(p, 4);
-  EXPECT_EQ(helix.end, xyz(0, 10, -1));
-  EXPECT_EQ(helix.center0, 5.0);
-  EXPECT_EQ(helix.center1, 10.0);
-  EXPECT_EQ(helix.turns, -1);
+  expect_arc(op_at<Arc>(p, 1), xyz(10, 10), 15.0, 10.0, -1);
+  expect_arc(op_at<Arc>(p, 3), xyz(0, 10, 0), 0.0, 5.0, 1);  // G18: the plane (Z, X), centre Z0 X5, counter-clockwise
+  expect_arc(op_at<Arc>(p, 4), xyz(0, 10, -1), 5.0, 10.0, -1);
 }
 
 TEST(IsoParser, HelixMovesZAlongTheArc) {
@@ -155,10 +153,7 @@ TEST(IsoParser, ArcCentreIsIncrementalFromTheStartEvenUnderG90) {
 
 TEST(IsoParser, ArcEndIsIncrementalUnderG91) {
   const auto p = parse_ok("G0 X40 Y10\nG91 G3 X10 Y10 J10 F480\n");
-  const auto& a = op_at<Arc>(p, 1);
-  EXPECT_EQ(a.end, xyz(50, 20));
-  EXPECT_EQ(a.center0, 40.0);
-  EXPECT_EQ(a.center1, 20.0);
+  expect_arc(op_at<Arc>(p, 1), xyz(50, 20), 40.0, 20.0, 1);
 }
 
 TEST(IsoParser, AbsoluteArcCentreWithG90_1) {
