@@ -1,6 +1,7 @@
 // The programmed geometry of a Program, indexed by instruction: what reports measure the trace against.
 #pragma once
 
+#include <cassert>
 #include <cstdint>
 #include <optional>
 #include <utility>
@@ -62,6 +63,7 @@ struct ProgrammedPath {
   // Where move m starts: where the move before it ended (the path's start for the first). The
   // functions below take a move of `moves` (by reference, as iterating them gives it).
   const core::Vec& start_of(const ProgrammedMove& m) const {
+    assert(&m >= moves.data() && &m < moves.data() + moves.size());  // one of moves, not a copy
     return &m == moves.data() ? start : (&m - 1)->end;
   }
   // The move's bounding box (every point of it inside: p's distance from the box is a lower bound of
