@@ -1,6 +1,7 @@
 // Block check: one block's words sorted into modal groups and values, checked on their own.
 #include "program/iso/block.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 
@@ -191,6 +192,17 @@ std::uint32_t Block::first_axis_col() const {
   return col;
 }
 
+std::uint32_t Block::first_polar_col() const {
+  if (polar_radius && polar_angle) return std::min(polar_radius->col, polar_angle->col);
+  return polar_radius ? polar_radius->col : polar_angle ? polar_angle->col : 0;
+}
+
+std::uint32_t Block::first_position_col() const {
+  const std::uint32_t a = first_axis_col(), p = first_polar_col();
+  if (a == 0 || p == 0) return a + p;
+  return std::min(a, p);
+}
+
 const Block::MCode* Block::m_code(int number) const {
   for (std::size_t k = 0; k < m_count; ++k)
     if (m[k].number == number) return &m[k];
@@ -230,6 +242,13 @@ std::optional<LineError> check_block(const std::vector<Word>& words, const MTabl
     }
     if (w.letter == 'M') {
       if (auto e = apply_m(w, mtable, out)) return e;
+      continue;
+    }
+    if (w.letter == '@' || w.letter == '^') {
+      // LinuxCNC 2.9 silently keeps the last of two @ (or ^) words; like any other word, softmc refuses it.
+      auto& polar = w.letter == '@' ? out.polar_radius : out.polar_angle;
+      if (polar) return LineError{w.col, fmt::format("two {} words in one block", w.letter)};
+      polar = At<double>{w.value, w.col};
       continue;
     }
     if (w.letter < 'A' || w.letter > 'Z') return LineError{w.col, "unknown word"};  // the lexer never makes one

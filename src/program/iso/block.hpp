@@ -54,11 +54,20 @@ struct Block {
   std::size_t m_count = 0;
 
   std::array<std::optional<At<double>>, 26> words;  // every other letter, by letter
+  // LinuxCNC's polar coordinates in the G17 plane: @ radius (a length), ^ angle (degrees from +X).
+  // They give X and Y in place of X and Y words.
+  std::optional<At<double>> polar_radius;  // @
+  std::optional<At<double>> polar_angle;   // ^
 
   const std::optional<At<double>>& word(char letter) const { return words[static_cast<std::size_t>(letter - 'A')]; }
   bool has(char letter) const { return word(letter).has_value(); }
   bool has_axes() const;
   std::uint32_t first_axis_col() const;  // 0 when there is none
+  bool has_polar() const { return polar_radius || polar_angle; }
+  std::uint32_t first_polar_col() const;  // 0 when there is none
+  // Words that give an end point: axis words or polar coordinates.
+  bool has_position() const { return has_axes() || has_polar(); }
+  std::uint32_t first_position_col() const;  // 0 when there is none
   const MCode* m_code(int number) const;
 };
 

@@ -27,6 +27,7 @@ std::optional<LineError> Exec::cycle(std::uint32_t col) {
   for (std::size_t a = 3; a <= 5; ++a)
     if (b.has(core::letter(a))) return error(b.word(core::letter(a))->col, "rotary axes cannot move in a canned cycle");
   if (st.feed_mode == FeedMode::InverseTime) return error(col, "canned cycles cannot run in inverse time feed mode (G93)");
+  if (b.has_polar()) return error(b.first_polar_col(), "polar coordinates (@ ^) in canned cycles are not supported yet");
   // A cycle other than the one in effect (motion() then cleared the sticky R) needs all its words.
   const bool first = std::isnan(st.cycle_r);
   const auto& cw = w(lc);

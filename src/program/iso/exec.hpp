@@ -14,6 +14,13 @@ inline constexpr bool is_linear_axis(std::size_t a) { return a < 3 || a > 5; }
 
 inline LineError error(std::uint32_t col, std::string message) { return LineError{col, std::move(message)}; }
 
+// Polar coordinates (polar.cpp). An angle word in degrees to radians, as LinuxCNC's D2R.
+double polar_radians(double deg);
+enum class PolarStep : std::uint8_t { Ok, RadiusAtOrigin, AngleAtOrigin };
+// G91 polar step about the origin (LinuxCNC find_ends, CYCLE_MACRO): the radius grows by dr along
+// the current angle, then the angle by dt_rad at that radius; either is undefined at the origin.
+PolarStep polar_increment(double& x, double& y, std::optional<double> dr, std::optional<double> dt_rad);
+
 // One block's execution against a copy of the state: commit() is the only write to the caller.
 struct Exec {
   const Block& b;
@@ -50,9 +57,10 @@ struct Exec {
 
   core::Vec program_position() const { return to_program(st, st.position); }
 
-  // End point in program coordinates from the block's axis words (G90/G91), current position elsewhere.
-  core::Vec program_target(std::uint16_t& named) {
-    core::Vec p = program_position();
+  // End point in program coordinates from the block's axis words (G90/G91) or polar coordinates
+  // (X and Y), current position elsewhere; `named` gets the axes given.
+  std::optional<LineError> program_target(core::Vec& p, std::uint16_t& named) {
+    p = program_position();
     named = 0;
     for (std::size_t a = 0; a < core::kMaxAxes; ++a) {
       const auto& x = w(core::letter(a));
@@ -61,8 +69,16 @@ struct Exec {
       const double v = x->value * scale(a);
       p[a] = st.distance == Distance::Absolute ? v : p[a] + v;
     }
-    return p;
+    if (b.has_polar()) {  // never with X or Y words (polar_words)
+      if (auto e = polar_end(p[0], p[1])) return e;
+      named |= core::axis_bit(0) | core::axis_bit(1);
+    }
+    return std::nullopt;
   }
+  // Polar coordinates (polar.cpp): what the block may hold with them, and the end point they give
+  // from the current program point (x, y).
+  std::optional<LineError> polar_words();
+  std::optional<LineError> polar_end(double& x, double& y);
 
   // Machine point of a program point; axes not named keep their machine position exactly (a
   // round trip through the offsets could add rounding noise).

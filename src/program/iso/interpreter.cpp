@@ -103,6 +103,7 @@ std::optional<LineError> Exec::feed_for(std::uint32_t col, double length_mm, dou
 std::optional<LineError> Exec::run() {
   // Every length and the F word of a block are read in the units in effect after the block's own
   // G20/G21, so "G20 F10" is 10 in/min.
+  if (auto e = polar_words()) return e;  // LinuxCNC checks them when it reads the block
   if (b.units) st.units = b.units->value;
   if (b.feed_mode) st.feed_mode = b.feed_mode->value;
   st.feed_in_block = false;
@@ -324,8 +325,10 @@ std::optional<LineError> Exec::motion() {
     return error(b.motion->col, fmt::format("{} and {} both use axis words: put them in separate blocks", g_code_name(other),
                                             b.motion->value == Motion::Rapid ? "G0" : "the motion code"));
   }
-  if (b.motion && b.motion->value == Motion::None && b.has_axes() && !axis_user && !g43_1)
-    return error(b.first_axis_col(), "axis words with G80: G80 cancels the motion mode and cannot move");
+  // Polar coordinates stand for X and Y words here (LinuxCNC's enhance_block counts them as axis words).
+  const char* const what = b.has_axes() ? "axis words" : "polar coordinates (@ ^)";
+  if (b.motion && b.motion->value == Motion::None && b.has_position() && !axis_user && !g43_1)
+    return error(b.first_position_col(), fmt::format("{} with G80: G80 cancels the motion mode and cannot move", what));
   if (b.motion) {
     if (b.motion->value == Motion::Nurbs && st.motion == Motion::Nurbs)
       return error(b.motion->col, "G5.2 inside an open G5.2 block: close it with G5.3 first");
@@ -340,10 +343,10 @@ std::optional<LineError> Exec::motion() {
   }
   if (axis_user || g43_1) return std::nullopt;  // their axis words were used by setup()/tool_length()
   // A motion word moves (or at least sets the mode); axis words alone move in the modal motion.
-  const bool moves = b.has_axes() || (b.motion && b.motion->value != Motion::None && !is_cycle(b.motion->value) &&
-                                      b.motion->value != Motion::Nurbs);
-  if (b.has_axes() && st.motion == Motion::None && !st.motion_uncertain)
-    return error(b.first_axis_col(), "axis words with no motion mode: program G0, G1, G2 or G3 first");
+  const bool moves = b.has_position() || (b.motion && b.motion->value != Motion::None && !is_cycle(b.motion->value) &&
+                                          b.motion->value != Motion::Nurbs);
+  if (b.has_position() && st.motion == Motion::None && !st.motion_uncertain)
+    return error(b.first_position_col(), fmt::format("{} with no motion mode: program G0, G1, G2 or G3 first", what));
   if (b.g53_col) {
     if (st.motion != Motion::Rapid && st.motion != Motion::Linear)
       return error(*b.g53_col, "G53 needs G0 or G1 in effect: it moves in machine coordinates");
@@ -351,7 +354,7 @@ std::optional<LineError> Exec::motion() {
     if (st.comp != Comp::Off) return error(*b.g53_col, "G53 cannot be used with cutter radius compensation on");
   }
   if (!moves || st.motion == Motion::None) return std::nullopt;
-  const std::uint32_t col = b.motion ? b.motion->col : b.first_axis_col();
+  const std::uint32_t col = b.motion ? b.motion->col : b.first_position_col();
   // The feed is checked before the geometry: it is the first thing missing in a CAM-less program.
   if (is_feed_motion(st.motion) && st.motion != Motion::Nurbs && st.feed_mode == FeedMode::PerMinute && !st.feed_mm_s &&
       !st.feed_uncertain)
@@ -379,11 +382,12 @@ std::optional<LineError> Exec::straight(bool rapid, std::uint32_t col) {
         named |= core::axis_bit(a);
       }
   } else {
-    const core::Vec target = program_target(named);  // sets `named` before machine_of reads it
+    core::Vec target;
+    if (auto e = program_target(target, named)) return e;
     end = machine_of(target, named);
   }
   if (rapid) {
-    if (b.has_axes()) emit(Rapid{end});
+    if (b.has_position()) emit(Rapid{end});
   } else {
     double lin = 0, rot = 0;
     for (std::size_t a = 0; a < core::kMaxAxes; ++a) {
@@ -392,7 +396,7 @@ std::optional<LineError> Exec::straight(bool rapid, std::uint32_t col) {
     }
     double feed = 0;
     if (auto e = feed_for(col, std::sqrt(lin), std::sqrt(rot), feed)) return e;
-    if (b.has_axes()) emit(Linear{end, feed});
+    if (b.has_position()) emit(Linear{end, feed});
   }
   st.position = end;
   return std::nullopt;
@@ -410,7 +414,8 @@ std::optional<LineError> Exec::arc(std::uint32_t col) {
   const bool r_format = b.has('R');
   // Without either plane word a centre-format arc ends where it starts: a full circle (LinuxCNC 2.9's
   // rs274 takes `G2 I5 J0` so, and CAM posts write full circles that way); an R-format arc cannot.
-  if (!b.has(l0) && !b.has(l1) && r_format)
+  // Polar coordinates (G17 only) give X and Y: LinuxCNC's convert_arc counts them as the plane words.
+  if (!b.has(l0) && !b.has(l1) && !b.has_polar() && r_format)
     return error(col, fmt::format("{} and {} words both missing for an R-format arc", l0, l1));
   if (r_format && (b.has(c0) || b.has(c1)))
     return error(b.word('R')->col, "R word together with centre words: give the arc either a radius or a centre");
@@ -424,7 +429,8 @@ std::optional<LineError> Exec::arc(std::uint32_t col) {
   }
   std::uint16_t named = 0;
   const core::Vec prog_start = program_position();
-  const core::Vec prog_end = program_target(named);
+  core::Vec prog_end;
+  if (auto e = program_target(prog_end, named)) return e;
   const core::Vec end = machine_of(prog_end, named);
   ArcRequest rq;
   rq.start = st.position;

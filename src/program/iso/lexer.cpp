@@ -284,7 +284,8 @@ void lex_line(std::string_view s, const Parameters& params, LexedLine& out) {
       out.o = std::move(o);
       break;
     }
-    if (is_letter(c)) {
+    // '@' and '^' are LinuxCNC's polar coordinate words (radius, angle in degrees): words like letters.
+    if (is_letter(c) || c == '@' || c == '^') {
       Word w;
       w.letter = to_upper(c);
       w.col = col_of(i);

@@ -16,7 +16,7 @@ namespace softmc::program::iso {
 
 // A letter and its value (program units, no modal meaning yet).
 struct Word {
-  char letter = 0;        // upper case A..Z
+  char letter = 0;        // upper case A..Z, or '@' / '^' (LinuxCNC's polar radius and angle)
   double value = 0;       // finite, |value| <= kMaxNumberMagnitude for literal numbers
   std::uint32_t col = 0;  // 1-based column of the letter
 };

@@ -103,7 +103,8 @@ std::optional<LineError> Exec::setup() {
       if (st.comp != Comp::Off) return error(col, fmt::format("{} cannot be used with cutter radius compensation on", g_code_name(code)));
       const int base = code == 280 ? kG28Home : kG30Home;
       std::uint16_t named = 0;
-      const core::Vec via_prog = program_target(named);
+      core::Vec via_prog;
+      if (auto e = program_target(via_prog, named)) return e;
       core::Vec at = st.position;
       if (named) {
         at = machine_of(via_prog, named);

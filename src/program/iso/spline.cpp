@@ -22,7 +22,8 @@ std::optional<LineError> Exec::spline(std::uint32_t col) {
   const double kk = k();
   const core::Vec prog_start = program_position();
   std::uint16_t named = 0;
-  const core::Vec prog_end = program_target(named);
+  core::Vec prog_end;
+  if (auto e = program_target(prog_end, named)) return e;
   Bezier bz;
   bz.end = machine_of(prog_end, named);
   bz.axis0 = 0;
@@ -87,7 +88,8 @@ std::optional<LineError> Exec::nurbs_point(std::uint32_t col) {
   }
   if (!b.has('X') && !b.has('Y')) return error(col, "NURBS control point without X or Y");
   std::uint16_t named = 0;
-  const core::Vec target = program_target(named);
+  core::Vec target;
+  if (auto e = program_target(target, named)) return e;
   const core::Vec end = machine_of(target, named);
   st.nurbs_ctrl.push_back(end);
   st.nurbs_weights.push_back(weight);

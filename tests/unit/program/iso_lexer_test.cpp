@@ -124,7 +124,7 @@ TEST(IsoLexer, StrayCharacters) {
   EXPECT_EQ(lex_error("G1 X1]"), "6: ']' without an opening '['");
   EXPECT_EQ(lex_error("G1 X1 %"), "7: '%' must be alone on its line");
   EXPECT_EQ(lex_error("G1 /X1"), "4: '/' (block delete) must be the first character of the line");
-  EXPECT_EQ(lex_error("G1 X1 @"), "7: unexpected character '@'");
+  EXPECT_EQ(lex_error("G1 X1 &"), "7: unexpected character '&'");
   EXPECT_EQ(lex_error(std::string("G1 \x01", 4)), "4: unexpected byte 0x01");
   EXPECT_EQ(lex_error(std::string("G1\0", 3)), "3: unexpected byte 0x00");
   EXPECT_EQ(lex_error("G1 \xC3\xA9"), "4: unexpected byte 0xC3");
