@@ -7,11 +7,13 @@
 //                                                         rapid down to R (if above it)
 //                                                         the cycle's own moves (feed down, dwell, pecks …)
 //                                                         retract to clear
-// In G91, X/Y are increments per repeat, R is relative to the initial level and Z to R.
+// In G91, X/Y are increments per repeat, R is relative to the initial level and Z to R. Polar
+// coordinates @ ^ (G17): in G90 the hole; in G91 a radius and an angle step about the origin per repeat.
 // Spindle events of a cycle (G74/G84 reversal, G86/G87/G88 stop and restart, G87 orientation) are
 // emitted as an M function of group 2 with its ToolSwitch, as an M3/M4/M5/M19 block would be, so
 // the PLC sees the spindle state through P-10 exactly as for programmed M functions.
 #include <cmath>
+#include <optional>
 
 #include "program/iso/exec.hpp"
 
@@ -27,7 +29,6 @@ std::optional<LineError> Exec::cycle(std::uint32_t col) {
   for (std::size_t a = 3; a <= 5; ++a)
     if (b.has(core::letter(a))) return error(b.word(core::letter(a))->col, "rotary axes cannot move in a canned cycle");
   if (st.feed_mode == FeedMode::InverseTime) return error(col, "canned cycles cannot run in inverse time feed mode (G93)");
-  if (b.has_polar()) return error(b.first_polar_col(), "polar coordinates (@ ^) in canned cycles are not supported yet");
   // A cycle other than the one in effect (motion() then cleared the sticky R) needs all its words.
   const bool first = std::isnan(st.cycle_r);
   const auto& cw = w(lc);
@@ -107,14 +108,29 @@ std::optional<LineError> Exec::cycle(std::uint32_t col) {
   double old_cc = st.cycle_il;
   double current_cc = pos[pa.n];
   double aa = pos[pa.a0], bb = pos[pa.a1], aa_inc = 0, bb_inc = 0, r = 0, cc = 0;
+  // Polar coordinates (G17 only, never with X or Y: polar.cpp) as LinuxCNC's convert_cycle_xy reads
+  // them: in G90 the hole itself, with the current radius or angle for a missing word (and, unlike a
+  // straight move, angle 0 at the origin); in G91 increments about the origin for every repeat.
+  const auto& pr = b.polar_radius;
+  const auto& pt = b.polar_angle;
+  std::optional<double> dr, dt;
   if (st.distance == Distance::Absolute) {
     r = r_word;
     cc = cc_word;
     if (const auto& x = w(la)) aa = x->value * kk;
     if (const auto& y = w(lb)) bb = y->value * kk;
+    if (b.has_polar()) {
+      const double radius = pr ? pr->value * kk : std::hypot(bb, aa);
+      const double theta = pt ? polar_radians(pt->value) : std::atan2(bb, aa);
+      aa = radius * std::cos(theta);
+      bb = radius * std::sin(theta);
+    }
   } else {
     if (const auto& x = w(la)) aa_inc = x->value * kk;
     if (const auto& y = w(lb)) bb_inc = y->value * kk;
+    // LinuxCNC steps only by increments that are not zero: ^0 and @0 pass the origin without an error.
+    if (pr && pr->value != 0) dr = pr->value * kk;
+    if (pt && pt->value != 0) dt = polar_radians(pt->value);
     r = r_word + old_cc;
     cc = r + cc_word;
   }
@@ -173,6 +189,13 @@ std::optional<LineError> Exec::cycle(std::uint32_t col) {
     if (out.ops.size() > opt.max_ops) return too_many();
     aa += aa_inc;
     bb += bb_inc;
+    // G91 polar: the radius increment, then the angle increment, about the origin (LinuxCNC CYCLE_MACRO).
+    if (const PolarStep s = polar_increment(aa, bb, dr, dt); s != PolarStep::Ok) {
+      const bool radius = s == PolarStep::RadiusAtOrigin;
+      return error(radius ? pr->col : pt->col,
+                   fmt::format("incremental polar coordinates (G91 {}) at the origin in repeat {} of the canned cycle: "
+                               "the current angle is undefined there", radius ? '@' : '^', n + 1));
+    }
     // The first hole is reached at the current height, the others at the clear height; then down to R.
     if (n == 0 && current_cc > r) {
       rapid(aa, bb, current_cc);

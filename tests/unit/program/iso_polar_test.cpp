@@ -204,3 +204,47 @@ TEST(IsoPolar, TheAngleIsUndefinedAtTheOrigin) {
   // With both words in G90 the origin is fine, and so is ^ alone (radius 0).
   expect_ends(parse_ok("G0 @0 ^30\nG0 ^45\n"), {{0, 0, 0}, {0, 0, 0}});
 }
+
+TEST(IsoPolarCycles, G91AngleStepsDrillABoltHoleCircle) {
+  // As LinuxCNC's hole-circle.ngc: six holes 60° apart on a 1.5 in radius about the origin. rs274:
+  // up to R, then for each hole rapid over it at R, feed to Z-.4 and back to R.
+  const auto p = parse_ok("G20 G17 G90 G98\nG0 X1.5 Y0 Z0\nG91 G81 R.1 Z-.5 ^60 L6 F10\n");
+  const double holes[6][2] = {{0.75, 1.2990}, {-0.75, 1.2990}, {-1.5, 0}, {-0.75, -1.2990}, {0.75, -1.2990}, {1.5, 0}};
+  std::vector<std::vector<double>> want = {{1.5, 0, 0}, {1.5, 0, 0.1}};
+  for (const auto& h : holes) {
+    want.push_back({h[0], h[1], 0.1});
+    want.push_back({h[0], h[1], -0.4});
+    want.push_back({h[0], h[1], 0.1});
+  }
+  expect_ends(p, want, 25.4);
+}
+
+TEST(IsoPolarCycles, G90HolesAreAtThePolarPointAndTheOriginGivesAngleZero) {
+  // LinuxCNC's convert_cycle_xy takes atan2(0, 0) = 0 for @ alone at the origin (a straight move
+  // refuses it); ^ alone keeps the current radius. G91 @0 ^0 are no steps at all, also at the origin.
+  // G91 @ and ^ together step every repeat: the radius, then the angle.
+  const auto p = parse_ok(
+      "G21 G90 G17 G98\nG0 X0 Y0 Z5\nG81 @7 R1 Z-2 F100\nG81 ^90\nG80\nG0 X0 Y0\nG91 G81 @0 ^0 R1 Z-2\nG80\n"
+      "G90 G0 X1 Y1\nG91 G99 G81 @2 ^45 R-3 Z-2 L4\n");
+  expect_ends(p, {{0, 0, 5},          {7, 0, 5},          {7, 0, 1},          {7, 0, -2},        {7, 0, 5},
+                  {0, 7, 5},          {0, 7, 1},          {0, 7, -2},         {0, 7, 5},         {0, 0, 5},
+                  {0, 0, 6},          {0, 0, 6},          {0, 0, 4},          {0, 0, 6},         {1, 1, 6},
+                  {0, 3.4142, 6},     {0, 3.4142, 3},     {0, 3.4142, 1},     {0, 3.4142, 3},    {-3.8284, 3.8284, 3},
+                  {-3.8284, 3.8284, 1}, {-3.8284, 3.8284, 3}, {-7.4142, 0, 3}, {-7.4142, 0, 1}, {-7.4142, 0, 3},
+                  {-6.6569, -6.6569, 3}, {-6.6569, -6.6569, 1}, {-6.6569, -6.6569, 3}});
+}
+
+TEST(IsoPolarCycles, G91RepeatsThatReachTheOriginStop) {
+  // rs274 drills (1, 0) and (0, 0), then stops: "Incremental motion with polar coordinates is
+  // indeterminate when at the origin". softmc refuses the whole block.
+  EXPECT_EQ(one_error("G21 G90 G17\nG0 X2 Y0 Z5\nG91 G98 G81 @-1 R1 Z-2 L3 F100\n"),
+            "t.ngc:3:13: error: incremental polar coordinates (G91 @) at the origin in repeat 3 of the canned cycle: "
+            "the current angle is undefined there");
+  EXPECT_EQ(one_error("G21 G90 G17\nG0 X0 Y0 Z5\nG91 G98 G81 ^60 R1 Z-2 L2 F100\n"),
+            "t.ngc:3:13: error: incremental polar coordinates (G91 ^) at the origin in repeat 1 of the canned cycle: "
+            "the current angle is undefined there");
+  EXPECT_EQ(one_error("G0 X1 Z5\nG91 G81 X1 @1 R1 Z-2 F100\n"),
+            "t.ngc:2:9: error: X word together with polar coordinates (@ ^): they give X and Y, use one or the other");
+  EXPECT_EQ(one_error("G18 G0 X1 Z5\nG81 @1 R1 Y-2 F100\n"),
+            "t.ngc:2:5: error: polar coordinates (@ ^) work only in the G17 plane, and G18 is in effect");
+}
