@@ -645,3 +645,28 @@ TEST(Run, ABrakeThatLandsAHairShortOfTheEndSettlesBeforeTheSnap) {
   ASSERT_FALSE(r.res.trace.rows.empty());
   EXPECT_EQ(r.res.trace.rows.back().cmd[1], 73.853);
 }
+
+// A braking run along X (X with 10⁶ mm/s³, Y with 10⁴ mm/s³ and 200 mm/s²) into a 3.6 µm line at
+// F60 before a sharp turn (a fuzzer's): the ramp that took the path from 0.5 mm/s, −1000 mm/s² onto
+// the short line ended its cycle at 7·10⁻¹⁵ mm/s with a = 0. The rules for a follower at rest ask for
+// exact zeros, the ramp up to the line's 1 mm/s was refused for rounding at its peak, and the path
+// coasted 3.2 µm short of the turn for the rest of the day (the run's 86 400 s limit). Such a state
+// is rest now: the run ends, every limit kept.
+TEST(Run, RoundingsRestBeforeATinySlowLineIsRest) {
+  const std::string text =
+      "G21 G90 G17\nG64 P0.1\nG0 X53.7619 Y1 Z17.3175\nF6000\n"
+      "G1 X53.9209\nG1 X54.0839\nG1 X54.2511\nG1 X54.4208\nG1 X54.5941\nG1 X54.7704\nG1 X54.9516\n"
+      "G1 X55.1365\nG1 X55.3267\nG1 X55.5213\nG1 X55.7195\nG1 X55.9204\nG1 X56.1267\nG1 X56.3347\nG1 X56.5465\n"
+      "F60\nG1 X56.5501\nG1 X54.4956 Y5.5584\nG1 X45.9026 Y23.6183\nG2 X45.8990 Y23.5931 I0.2949 J-0.0551\n"
+      "G1 X45.6595 Y23.5215\nM2\n";
+  auto cfg = fuzz_machine({{{50, 1000, 1000000}, {100, 200, 10000}, {500, 200, 1000000}}});
+  machine::apply_override(cfg, "planner.lookahead=16");
+  machine::validate(cfg);
+  auto parsed = program::iso::parse(text, "tiny_slow_line.ngc");
+  ASSERT_TRUE(parsed.program);
+  app::SimOptions opt;
+  opt.max_time_s = 60;  // it runs 28.3 s; stuck, it would run the default day
+  const auto res = app::simulate(*parsed.program, cfg, opt);
+  ASSERT_TRUE(res.ok) << res.result;
+  expect_within_limits(report::summarize(*parsed.program, cfg, res.trace), cfg, 0.1);
+}

@@ -306,6 +306,12 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   if (x.s < 0) x.s = 0;
   v_ = std::max(0.0, x.v);
   a_ = v_ == 0 && x.a < 0 ? 0.0 : x.a;
+  // Rounding's rest is rest: a ramp from (0.5 mm/s, −1000 mm/s²) at 10⁶ mm/s³ ends a cycle at
+  // 7·10⁻¹⁵ mm/s, a = 0 (a fuzzer's: a 3.6 µm line at F60 after a braking run). The rules for a
+  // follower at rest (the ramp up from rest, the stop on the block's end after three cycles) ask
+  // for v = a = 0 exactly, the ramp to the cap was refused for rounding at its peak, and the path
+  // coasted at 7·10⁻¹⁵ mm/s for ever. Below 10⁻¹² mm/s (10⁻¹⁵ mm a cycle) it is rest.
+  if (v_ <= 1e-12 && std::abs(a_) <= 1e-9) v_ = a_ = 0;
   s_ += x.s;
   // At rest on a point to stop at (the position-mode stop lands on it up to the rounding of the
   // distance from now): the block is done. Also at rest for three cycles or more just short of one,
