@@ -79,9 +79,12 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   // fuzzer's stub moving X by 1e-5 of its length, X with a jerk limit and Y without: J 1.3e8 mm/s³,
   // J·dt³/8 = 16 µm, and a 8.3 µm stub taken in one step was 8.3× Y's acceleration).
   const auto rest_step = [dt](double j, double a) { return std::min(j * dt * dt * dt / 8, a * dt * dt / 2); };
-  // At rest a hair short of the front block's end, waiting for the snap onto it (below).
-  const double j_f = jerk_of(f, dt), settle = std::min(1e-9, rest_step(j_f, f.a_mm_s2));
-  const bool settling = v_ == 0 && a_ == 0 && f.length - s_ > 1e-6 * j_f * dt * dt * dt && f.length - s_ <= settle;
+  // A hair short of the front block's end: noise against one cycle's jerk step (snapped at once),
+  // or within the band where the follower settles before the snap (below). Worked out only at rest.
+  const auto noise = [&] { return 1e-6 * jerk_of(f, dt) * dt * dt * dt; };
+  const auto settle_band = [&] { return std::min(1e-9, rest_step(jerk_of(f, dt), f.a_mm_s2)); };
+  // At rest in that band, waiting for the snap onto the block's end.
+  const bool settling = v_ == 0 && a_ == 0 && f.length - s_ > noise() && f.length - s_ <= settle_band();
   if (!at_cruise) walk_limits();
   const ProfileState now{0, v_, a_, 0};
 
@@ -333,13 +336,14 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   // same cycle as the brake's last jerk phase added 2.5e-10/dt³ to it (a fuzzer's case: Y 1.0016×
   // its 10 000 mm/s³ at 0.25 ms). Snapping only the noise and letting the follower land the rest
   // crept there for 0.4 s at 1e-9 mm/s, neither moving nor at rest.
-  if (v_ <= 1e-9 && std::abs(a_) <= 1e-6 && left >= -1e-9 &&
-      (left <= 1e-6 * j_f * dt * dt * dt || (left > settle && left <= 1e-9) || (left <= settle && rest_cycles_ >= 3) ||
-       (at_stop && !h && rest_cycles_ >= 3 && left <= rest_step(j_f, f.a_mm_s2)))) {
+  const bool resting = v_ <= 1e-9 && std::abs(a_) <= 1e-6 && left >= -1e-9;
+  const double settle = resting ? settle_band() : 0.0;
+  if (resting && (left <= noise() || (left > settle && left <= 1e-9) || (left <= settle && rest_cycles_ >= 3) ||
+                  (at_stop && !h && rest_cycles_ >= 3 && left <= rest_step(jerk_of(f, dt), f.a_mm_s2)))) {
     s_ = f.length;
     v_ = 0;
     a_ = 0;
-  } else if (v_ <= 1e-9 && std::abs(a_) <= 1e-6 && left > 0 && left <= settle) {
+  } else if (resting && left > 0 && left <= settle) {
     v_ = 0;  // settling: the next cycles take zero steps (`settling`) until the snap above
     a_ = 0;
   } else if (rest_cycles_ >= 3 && !h && vt > 0 && std::isfinite(f.j_mm_s3)) {
