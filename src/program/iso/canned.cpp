@@ -229,8 +229,10 @@ std::optional<LineError> Exec::cycle(std::uint32_t col) {
         rapid(aa, bb, clear);
         break;
       case Motion::Bore85:
+        // LinuxCNC 2.9 convert_cycle_g85: out to R at the feed, then a rapid to the clear height (G98).
         feed_to(aa, bb, cc);
-        feed_to(aa, bb, clear);
+        feed_to(aa, bb, r);
+        if (clear > r) rapid(aa, bb, clear);
         break;
       case Motion::Bore86:
         feed_to(aa, bb, cc);

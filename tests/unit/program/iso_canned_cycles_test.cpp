@@ -115,6 +115,25 @@ TEST(IsoCanned, G86RestartsTheSpindleInItsDirection) {
             "t.ngc:2:1: error: spindle not turning in G86: program M3 or M4 first (the cycle stops and restarts it)");
 }
 
+TEST(IsoCanned, G85FeedsOutToRThenRapidsToTheClearHeight) {
+  // LinuxCNC 2.9 convert_cycle_g85: feed down, feed out to R, rapid to the clear height. rs274 -g:
+  // STRAIGHT_FEED(10, 10, -5), STRAIGHT_FEED(10, 10, 2), STRAIGHT_TRAVERSE(10, 10, 10) under G98;
+  // under G99 the clear height is R and the feed to R ends the cycle.
+  const std::vector<std::string> g98 = {"rapid 10,10,10", "rapid 10,10,2", "feed 10,10,-5 @10", "feed 10,10,2 @10",
+                                        "rapid 10,10,10"};
+  EXPECT_EQ(cycle_events(kSpindleCw, "G85 X10 Y10 Z-5 R2\n"), g98);
+  const std::vector<std::string> g99 = {"rapid 10,10,10", "rapid 10,10,2", "feed 10,10,-5 @10", "feed 10,10,2 @10"};
+  EXPECT_EQ(cycle_events(kSpindleCw, "G99 G85 X10 Y10 Z-5 R2\n"), g99);
+}
+
+TEST(IsoCanned, G89FeedsOutToTheClearHeightAfterItsDwell) {
+  // LinuxCNC 2.9's G89 (unlike G85) feeds straight out to the clear height: rs274 -g prints
+  // STRAIGHT_FEED(30, 0, -5), DWELL(1), STRAIGHT_FEED(30, 0, 10) under G98.
+  const std::vector<std::string> want = {"rapid 30,0,10", "rapid 30,0,2", "feed 30,0,-5 @10", "dwell 1",
+                                         "feed 30,0,10 @10"};
+  EXPECT_EQ(cycle_events(kSpindleCw, "G89 X30 Z-5 R2 P1\n"), want);
+}
+
 TEST(IsoCanned, G91RIsFromTheInitialLevelAlsoAfterG99Cycles) {
   // rs274 2.9: a run of cycles keeps its initial level; G91's R counts from it even under G99. The
   // move to the second hole rises from R (2) to the new R (10) on the way, as rs274's does.
