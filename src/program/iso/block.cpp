@@ -77,6 +77,7 @@ std::optional<LineError> apply_g(const Word& w, Block& b, GroupSeen& seen) {
   if (std::fabs(tenths - static_cast<double>(code10)) > 1e-6)
     return LineError{w.col, fmt::format("malformed G code G{}: at most one decimal place", w.value)};
   Group group = Group::NonModal;
+  const auto motion_before = b.motion;
   auto motion = [&](Motion m) {
     group = Group::Motion;
     b.motion = At<Motion>{m, w.col};
@@ -142,6 +143,19 @@ std::optional<LineError> apply_g(const Word& w, Block& b, GroupSeen& seen) {
       b.spindle_mode = At<int>{static_cast<int>(code10), w.col};
       break;
     default: return refuse_g(code10, w.col);
+  }
+  if (group == Group::Motion) {
+    // LinuxCNC read_g: "This allows G80 on the same line as one other g_code with the same mode. If
+    // this happens, the G80 is simply ignored" (CAM safety lines such as G0 G17 G40 G49 G80 G90).
+    auto& slot = seen[static_cast<std::size_t>(Group::Motion)];
+    if (code10 == 800 && slot >= 0 && slot != 800) {
+      b.motion = motion_before;
+      return std::nullopt;
+    }
+    if (slot == 800 && code10 != 800) {
+      slot = -1;
+      if (code10 == 53) b.motion.reset();  // G5.3 names no motion of its own
+    }
   }
   return claim(seen, group, code10, w.col);
 }

@@ -175,6 +175,22 @@ TEST(IsoOffsets, ToolTableErrorsHaveLineAndColumn) {
   EXPECT_EQ(d[2].format(), "tools.tbl:4:4: error: unknown tool table word K");
 }
 
+TEST(IsoCannedCycles, G80WithAnotherMotionCodeInTheBlockIsIgnored) {
+  // LinuxCNC read_g allows G80 on the same line as one other motion code and ignores it (CAM safety
+  // lines "G0 G17 G40 G49 G80 G90"). rs274 -g on this program: STRAIGHT_TRAVERSE to Z5 and Z10,
+  // STRAIGHT_FEED to Z3, the G81 at (0, 0) and (1, 0) from R2 to Z-1, then STRAIGHT_TRAVERSE(0, 0, 2).
+  const auto p = parse_ok("G0 X0 Y0 Z5\nG80 G0 Z10\nG1 G80 Z3 F60\nG99 G81 G80 Z-1 R2\nG80 G81 X1\n"
+                          "G0 G80 G17 G40 G49 G90 X0\n");
+  const std::vector<core::Vec> want = {xyz(0, 0, 5),  xyz(0, 0, 10), xyz(0, 0, 3), xyz(0, 0, 3),
+                                       xyz(0, 0, 2),  xyz(0, 0, -1), xyz(0, 0, 2), xyz(1, 0, 2),
+                                       xyz(1, 0, -1), xyz(1, 0, 2),  xyz(0, 0, 2)};
+  EXPECT_EQ(ends(p), want);
+  EXPECT_TRUE(std::holds_alternative<Rapid>(p.instructions[1].op));
+  EXPECT_TRUE(std::holds_alternative<Linear>(p.instructions[2].op));
+  // Two motion codes besides G80 are still two.
+  EXPECT_EQ(one_error("G80 G0 G1 X1 F60\n"), "t.ngc:1:8: error: two motion codes in one block: G0 and G1");
+}
+
 TEST(IsoCannedCycles, G81DrillWithG98AndG99) {
   const auto p = parse_ok("G0 X0 Y0 Z10\nG81 X5 Y5 Z-2 R1 F60\nX15\nG99 X25\nG80\n");
   const auto e = ends(p);
