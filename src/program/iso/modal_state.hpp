@@ -11,8 +11,9 @@
 
 namespace softmc::program::iso {
 
-// Starts as LinuxCNC starts: G80 (no motion mode) G17 G21 G90 G91.1 G94 G40 G49 G54 G61 G98 G97,
-// no feed.
+// Starts as LinuxCNC starts: G80 (no motion mode) G17 G21 G90 G91.1 G94 G40 G49 G54 G61 G99 G97,
+// no feed. (G99: LinuxCNC's interpreter starts in R_PLANE retract mode, #<_retract_r_plane> is 1,
+// and no sample configuration's start-up code changes it.)
 struct ModalState {
   Motion motion = Motion::None;
   Plane plane = Plane::XY;
@@ -20,7 +21,7 @@ struct ModalState {
   Distance distance = Distance::Absolute;
   Distance arc_distance = Distance::Incremental;  // G91.1: I/J/K relative to the arc's start point
   FeedMode feed_mode = FeedMode::PerMinute;
-  Retract retract = Retract::OldZ;
+  Retract retract = Retract::RPlane;
   std::optional<double> feed_mm_s;  // F converted when programmed; keeps its speed across G20/G21
   double feed_word = 0;             // F as written (G93: inverse minutes)
   bool feed_in_block = false;       // G93: this block had its own F

@@ -191,8 +191,19 @@ TEST(IsoCannedCycles, G80WithAnotherMotionCodeInTheBlockIsIgnored) {
   EXPECT_EQ(one_error("G80 G0 G1 X1 F60\n"), "t.ngc:1:8: error: two motion codes in one block: G0 and G1");
 }
 
+TEST(IsoCannedCycles, RetractModeStartsAsG99) {
+  // LinuxCNC's interpreter starts in R_PLANE retract mode (G99; #<_retract_r_plane> is 1 at start).
+  // rs274 -g of "G0 X0 Y0 Z10 / G81 X5 Y5 Z-2 R1 F60 / X15" retracts to R: STRAIGHT_TRAVERSE(5, 5, 10),
+  // (5, 5, 1), STRAIGHT_FEED(5, 5, -2), STRAIGHT_TRAVERSE(5, 5, 1), (15, 5, 1), STRAIGHT_FEED(15, 5, -2),
+  // STRAIGHT_TRAVERSE(15, 5, 1).
+  const auto p = parse_ok("G0 X0 Y0 Z10\nG81 X5 Y5 Z-2 R1 F60\nX15\n");
+  const std::vector<core::Vec> want = {xyz(0, 0, 10), xyz(5, 5, 10), xyz(5, 5, 1), xyz(5, 5, -2), xyz(5, 5, 1),
+                                       xyz(15, 5, 1), xyz(15, 5, -2), xyz(15, 5, 1)};
+  EXPECT_EQ(ends(p), want);
+}
+
 TEST(IsoCannedCycles, G81DrillWithG98AndG99) {
-  const auto p = parse_ok("G0 X0 Y0 Z10\nG81 X5 Y5 Z-2 R1 F60\nX15\nG99 X25\nG80\n");
+  const auto p = parse_ok("G0 X0 Y0 Z10\nG98 G81 X5 Y5 Z-2 R1 F60\nX15\nG99 X25\nG80\n");
   const auto e = ends(p);
   const std::vector<core::Vec> want = {xyz(0, 0, 10),
                                        xyz(5, 5, 10), xyz(5, 5, 1), xyz(5, 5, -2), xyz(5, 5, 10),
@@ -203,7 +214,7 @@ TEST(IsoCannedCycles, G81DrillWithG98AndG99) {
 }
 
 TEST(IsoCannedCycles, G83PeckAndG73ChipBreak) {
-  const auto p = parse_ok("G0 Z10\nG83 X0 Y0 Z-3 R1 Q1.5 F60\n");
+  const auto p = parse_ok("G0 Z10\nG98 G83 X0 Y0 Z-3 R1 Q1.5 F60\n");
   std::vector<double> z;
   for (const auto& v : ends(p)) z.push_back(v[2]);
   // G83 clears chips at R between pecks (rs274: cycle_g83 traverses to r), and retracts to the
@@ -232,7 +243,7 @@ TEST(IsoCannedCycles, G98AfterG99ReturnsToTheInitialLevel) {
 
 TEST(IsoCannedCycles, IncrementalRepeatsAndDwell) {
   // G91: X/Y increments per repeat, R from the initial Z, Z from R (LinuxCNC).
-  const auto p = parse_ok("G0 X0 Y0 Z5\nG91 G82 X10 Y0 Z-4 R-3 P0.5 L3 F60\n");
+  const auto p = parse_ok("G0 X0 Y0 Z5\nG98 G91 G82 X10 Y0 Z-4 R-3 P0.5 L3 F60\n");
   const auto e = ends(p);
   ASSERT_EQ(e.size(), 1u + 3 * 4);
   EXPECT_EQ(e[1], xyz(10, 0, 5));
