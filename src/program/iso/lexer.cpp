@@ -112,8 +112,10 @@ std::optional<LineError> o_header(std::string_view s, std::size_t& i, OWord& o) 
   return std::nullopt;
 }
 
-// Comment text at s[open+1 .. close): an active comment becomes a message.
-void comment(std::string_view body, const Parameters& params, LexedLine& out) {
+// Comment text at s[open+1 .. close): an active comment becomes a message. DEBUG and PRINT texts
+// keep their #n and #<name> as written: they are substituted when the block runs, after the line's
+// assignments (format_message).
+void comment(std::string_view body, LexedLine& out) {
   std::size_t i = 0;
   skip_spaces(body, i);
   std::string head;
@@ -126,28 +128,7 @@ void comment(std::string_view body, const Parameters& params, LexedLine& out) {
   else if (head == "debug") kind = MessageKind::Debug;
   else if (head == "print") kind = MessageKind::Print;
   else return;
-  std::string_view text = body.substr(j + 1);
-  LineMessage m{kind, {}};
-  if (kind == MessageKind::Msg) {
-    m.text = std::string(text);
-  } else {
-    // #n and #<name> print their values, as LinuxCNC's DEBUG and PRINT do (unknown ones as written).
-    for (std::size_t k = 0; k < text.size();) {
-      if (text[k] == '#') {
-        ValueReader r(text, params);
-        std::size_t p = k;
-        ParamRef ref;
-        double v = 0;
-        if (!r.param_ref(p, ref) && !(ref.named ? params.read_named(ref.name, v) : params.read(ref.number, v))) {
-          m.text += fmt::format("{:.6f}", v);
-          k = p;
-          continue;
-        }
-      }
-      m.text += text[k++];
-    }
-  }
-  out.messages.push_back(std::move(m));
+  out.messages.push_back(LineMessage{kind, std::string(body.substr(j + 1))});
 }
 
 }  // namespace
@@ -209,7 +190,7 @@ void lex_line(std::string_view s, const Parameters& params, LexedLine& out) {
         fail(LineError{col_of(open), "comment has no closing ')'"});
         break;
       }
-      comment(s.substr(open + 1, i - open - 1), params, out);
+      comment(s.substr(open + 1, i - open - 1), out);
       ++i;
       continue;
     }
@@ -260,7 +241,7 @@ void lex_line(std::string_view s, const Parameters& params, LexedLine& out) {
             fail(LineError{col_of(i), "comment has no closing ')'"});
             break;
           }
-          comment(s.substr(i + 1, close - i - 1), params, out);
+          comment(s.substr(i + 1, close - i - 1), out);
           i = close + 1;
           continue;
         }
@@ -301,6 +282,42 @@ void lex_line(std::string_view s, const Parameters& params, LexedLine& out) {
   }
   const bool has_content = !out.words.empty() || !out.assignments.empty() || out.o || !out.messages.empty();
   out.kind = (has_content || out.error) ? LineKind::Block : LineKind::Empty;
+}
+
+std::string format_message(std::string_view text, const Parameters& params) {
+  std::string out;
+  out.reserve(text.size());
+  for (std::size_t k = 0; k < text.size();) {
+    if (text[k] != '#' || k + 1 >= text.size()) {
+      out += text[k++];
+      continue;
+    }
+    double v = 0;
+    bool found = false;
+    std::size_t end = k + 1;
+    if (is_digit(text[end])) {
+      long long n = 0;
+      for (; end < text.size() && is_digit(text[end]); ++end) n = n < 1000000000 ? n * 10 + (text[end] - '0') : n;
+      found = !params.read(n, v);
+    } else if (text[end] == '<') {
+      const std::size_t close = text.find('>', end);
+      if (close == std::string_view::npos) {
+        out += text[k++];
+        continue;
+      }
+      std::string name;
+      for (std::size_t c = end + 1; c < close; ++c)
+        if (!is_space(text[c])) name += to_lower(text[c]);
+      end = close + 1;
+      found = !name.empty() && !params.read_named(name, v);
+    } else {
+      out += text[k++];
+      continue;
+    }
+    out += found ? fmt::format("{:.6f}", v) : std::string("######");
+    k = end;
+  }
+  return out;
 }
 
 LexedLine lex_line(std::string_view line) {

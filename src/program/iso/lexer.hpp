@@ -48,7 +48,8 @@ struct OWord {
   std::vector<double> args;       // call arguments, or the single value of if/while/repeat/return
 };
 
-// (MSG, …), (DEBUG, …), (PRINT, …): the text after the comma, parameters substituted for DEBUG/PRINT.
+// (MSG, …), (DEBUG, …), (PRINT, …): the text after the comma, as written (format_message
+// substitutes the parameters of DEBUG and PRINT when the block runs).
 struct LineMessage {
   MessageKind kind = MessageKind::Msg;
   std::string text;
@@ -76,6 +77,11 @@ struct LexedLine {
 void lex_line(std::string_view line, const Parameters& params, LexedLine& out);
 // Convenience for tests and tools: parameters all zero, no named ones.
 LexedLine lex_line(std::string_view line);
+
+// The text of a DEBUG or PRINT message with its parameters' values, as LinuxCNC prints them: #
+// and the digits right after it (#12, not "# 12" nor #[12]) or #<name> become the value with six
+// decimals; a parameter that does not exist becomes "######"; any other '#' stays as it is.
+std::string format_message(std::string_view text, const Parameters& params);
 
 // Reads only the O-word header (name, keyword, column) of a line, without evaluating anything:
 // the control-flow index is built from it before the program runs.

@@ -288,9 +288,13 @@ class ProgramReader {
     if (state_.ended && frames_.size() > 1) done_ = true;  // M2/M30 in a subroutine ends everything
   }
 
+  // DEBUG and PRINT show the parameters as they are when the block runs: after the line's own
+  // assignments (LinuxCNC: "#1=5 (DEBUG, #1)" prints 5.000000).
   void emit_messages(std::size_t f, std::size_t pc, std::uint32_t col) {
-    for (auto& m : lexed_.messages)
-      put(Instruction{core::SourceLoc{static_cast<std::uint16_t>(f), line_no(pc), col}, Message{m.kind, std::move(m.text)}});
+    for (auto& m : lexed_.messages) {
+      std::string text = m.kind == MessageKind::Msg ? std::move(m.text) : format_message(m.text, params_);
+      put(Instruction{core::SourceLoc{static_cast<std::uint16_t>(f), line_no(pc), col}, Message{m.kind, std::move(text)}});
+    }
   }
 
   // The block's ops to the program, through cutter compensation while it is on.

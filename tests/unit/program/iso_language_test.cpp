@@ -269,6 +269,34 @@ TEST(IsoMessages, MsgDebugAndPrintComments) {
   EXPECT_TRUE(std::holds_alternative<Rapid>(p.instructions[3].op));
 }
 
+// The texts of a program's messages, in order.
+std::vector<std::string> message_texts(const Program& p) {
+  std::vector<std::string> out;
+  for (const auto& ins : p.instructions)
+    if (const auto* m = std::get_if<Message>(&ins.op)) out.push_back(m->text);
+  return out;
+}
+
+TEST(IsoMessages, DebugShowsTheValuesAfterTheLinesAssignments) {
+  // LinuxCNC runs a block's comments after the line's parameters are set: rs274 -g prints
+  // MESSAGE(" value is 5.250000") for "#1=5.25 (DEBUG, value is #1)".
+  const auto p = parse_ok("#1=5.25 (DEBUG, value is #1)\n#<_g>=3 (PRINT,g=#<_g>)\n");
+  EXPECT_EQ(message_texts(p), (std::vector<std::string>{" value is 5.250000", "g=3.000000"}));
+}
+
+TEST(IsoMessages, DebugSubstitutesAsLinuxCnc) {
+  // rs274 -g: a parameter number is the digits right after '#' (spaces end it, a point is text),
+  // #[..] and "# 1" stay as written, a parameter that does not exist prints "######".
+  const auto p = parse_ok(
+      "#1=1.5\n#12=7\n#<ab>=3\n"
+      "(DEBUG,a #1 2 b)\n(DEBUG,c #1  d)\n(DEBUG,e #1x)\n(DEBUG,f #[1] g)\n(DEBUG,i #1.5 j)\n(DEBUG,k # 1 l)\n"
+      "(DEBUG,m #12)\n(DEBUG,n ##1)\n(DEBUG,o #<nope> p)\n(DEBUG,q #99999 r)\n(DEBUG,s #<A B> t)\n");
+  const std::vector<std::string> want = {"a 1.500000 2 b", "c 1.500000  d", "e 1.500000x", "f #[1] g",
+                                         "i 1.500000.5 j", "k # 1 l", "m 7.000000", "n #1.500000",
+                                         "o ###### p", "q ###### r", "s 3.000000 t"};
+  EXPECT_EQ(message_texts(p), want);
+}
+
 TEST(IsoM66, WaitInputAndNoBranchingOnItsResult) {
   const auto p = parse_ok("M66 P3 L3 Q2.5\n");
   const auto& w = op_at<WaitInput>(p, 1);
