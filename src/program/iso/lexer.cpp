@@ -112,16 +112,16 @@ std::optional<LineError> o_header(std::string_view s, std::size_t& i, OWord& o) 
   return std::nullopt;
 }
 
-// Comment text at s[open+1 .. close): an active comment becomes a message. DEBUG and PRINT texts
-// keep their #n and #<name> as written: they are substituted when the block runs, after the line's
-// assignments (format_message).
+// Comment text at s[open+1 .. close): an active comment becomes a message. As LinuxCNC's
+// convert_comment: spaces may come before the keyword, but the comma follows it directly ("(MSG ,
+// x)" is a plain comment). DEBUG and PRINT texts keep their #n and #<name> as written: they are
+// substituted when the block runs, after the line's assignments (format_message).
 void comment(std::string_view body, LexedLine& out) {
   std::size_t i = 0;
   skip_spaces(body, i);
   std::string head;
   std::size_t j = i;
   while (j < body.size() && is_letter(body[j]) && head.size() < 8) head += to_lower(body[j++]);
-  skip_spaces(body, j);
   if (j >= body.size() || body[j] != ',') return;
   MessageKind kind;
   if (head == "msg") kind = MessageKind::Msg;

@@ -297,6 +297,13 @@ TEST(IsoMessages, DebugSubstitutesAsLinuxCnc) {
   EXPECT_EQ(message_texts(p), want);
 }
 
+TEST(IsoMessages, TheCommaFollowsTheKeyword) {
+  // LinuxCNC's convert_comment: spaces may come before MSG/DEBUG/PRINT but not between it and the
+  // comma. rs274 -g: "(MSG , s)" is COMMENT("MSG , s"), "(  MSG, t)" MESSAGE(" t").
+  const auto p = parse_ok("(MSG , s)\n(  MSG, t)\n(DEBUG , u)\n(\tMSG, tab)\n(PRINT , v)\n(MSG,)\n(MSG)\n");
+  EXPECT_EQ(message_texts(p), (std::vector<std::string>{" t", " tab", ""}));
+}
+
 TEST(IsoM66, WaitInputAndNoBranchingOnItsResult) {
   const auto p = parse_ok("M66 P3 L3 Q2.5\n");
   const auto& w = op_at<WaitInput>(p, 1);
