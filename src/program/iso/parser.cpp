@@ -289,9 +289,10 @@ class ProgramReader {
   }
 
   // DEBUG and PRINT show the parameters as they are when the block runs: after the line's own
-  // assignments (LinuxCNC: "#1=5 (DEBUG, #1)" prints 5.000000).
+  // assignments (LinuxCNC: "#1=5 (DEBUG, #1)" prints 5.000000). #5599 = 0 silences DEBUG.
   void emit_messages(std::size_t f, std::size_t pc, std::uint32_t col) {
     for (auto& m : lexed_.messages) {
+      if (m.kind == MessageKind::Debug && params_.get(kDebugOutput) == 0.0) continue;
       std::string text = m.kind == MessageKind::Msg ? std::move(m.text) : format_message(m.text, params_);
       put(Instruction{core::SourceLoc{static_cast<std::uint16_t>(f), line_no(pc), col}, Message{m.kind, std::move(text)}});
     }

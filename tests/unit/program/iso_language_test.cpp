@@ -116,6 +116,11 @@ TEST(IsoParameters, UndefinedNamedAndOutOfRangeAreErrors) {
   EXPECT_EQ(one_error("G0 X#<nothing>\n"), "t.ngc:1:5: error: named parameter #<nothing> is not defined");
   EXPECT_EQ(one_error("G0 X#6000\n"), "t.ngc:1:5: error: parameter #6000 does not exist (#1 … #5602)");
   EXPECT_EQ(one_error("#5420 = 1\n"), "t.ngc:1:1: error: parameter #5420 is read-only");
+  // LinuxCNC's read-only ones are #5400…#5413 and #5420…#5428 (rs274 -g: "Parameter is readonly");
+  // the others up to #5602 may be written (offsets.ngc of LinuxCNC's examples starts with #5599 = 1).
+  EXPECT_EQ(one_error("#5413 = 1\n"), "t.ngc:1:1: error: parameter #5413 is read-only");
+  EXPECT_EQ(one_error("#5428 = 1\n"), "t.ngc:1:1: error: parameter #5428 is read-only");
+  parse_ok("#5399 = 1\n#5414 = 1\n#5419 = 1\n#5429 = 1\n#5599 = 1\n#5602 = 1\n");
   EXPECT_EQ(one_error("G0 X#1.5\n"), "t.ngc:1:5: error: parameter number 1.5 is not a whole number");
 }
 
@@ -302,6 +307,13 @@ TEST(IsoMessages, TheCommaFollowsTheKeyword) {
   // comma. rs274 -g: "(MSG , s)" is COMMENT("MSG , s"), "(  MSG, t)" MESSAGE(" t").
   const auto p = parse_ok("(MSG , s)\n(  MSG, t)\n(DEBUG , u)\n(\tMSG, tab)\n(PRINT , v)\n(MSG,)\n(MSG)\n");
   EXPECT_EQ(message_texts(p), (std::vector<std::string>{" t", " tab", ""}));
+}
+
+TEST(IsoMessages, Parameter5599SwitchesDebugOutput) {
+  // LinuxCNC: #5599 (1 at start) is writable; 0 silences DEBUG (not PRINT, not MSG). rs274 -g:
+  // MESSAGE(" a 1.000000"), then " c" printed, MESSAGE(" d"), MESSAGE(" e").
+  const auto p = parse_ok("(DEBUG, a #5599)\n#5599=0\n(DEBUG, b)\n(PRINT, c)\n(MSG, d)\n#5599=1\n(DEBUG, e)\n");
+  EXPECT_EQ(message_texts(p), (std::vector<std::string>{" a 1.000000", " c", " d", " e"}));
 }
 
 TEST(IsoM66, WaitInputAndNoBranchingOnItsResult) {
