@@ -341,8 +341,11 @@ class ProgramReader {
   void update_position_parameters() {
     const core::Vec p = to_program(state_, state_.position);
     for (std::size_t a = 0; a < core::kMaxAxes; ++a) params_.set(kCurrentPosition + static_cast<int>(a), p[a]);
+    // #5400…#5410 describe the loaded tool as its table entry has it, whatever G43/G49 is in effect
+    // (LinuxCNC set_tool_parameters: tool_table[0], the spindle; zeros with no tool loaded).
     params_.set(kToolNumber, state_.current_tool);
-    const Tool* t = opt_.tools ? opt_.tools->find(state_.current_tool) : nullptr;
+    const Tool* t = opt_.tools && state_.current_tool > 0 ? opt_.tools->find(state_.current_tool) : nullptr;
+    for (std::size_t a = 0; a < core::kMaxAxes; ++a) params_.set(kToolOffset + static_cast<int>(a), t ? t->offset[a] : 0.0);
     params_.set(kToolDiameter, t ? t->diameter_mm : 0.0);
   }
 

@@ -32,7 +32,6 @@ std::optional<LineError> Exec::tool_length() {
     st.tool_length_on = false;
   }
   st.tool = t;
-  for (std::size_t a = 0; a < core::kMaxAxes; ++a) write_param(kToolOffset + static_cast<int>(a), t[a]);
   emit_offsets();
   return std::nullopt;
 }

@@ -147,6 +147,27 @@ TEST(IsoOffsets, G53MovesInMachineCoordinates) {
   EXPECT_EQ(one_error("G53 G2 X1 I1 F60\n"), "t.ngc:1:1: error: G53 needs G0 or G1 in effect: it moves in machine coordinates");
 }
 
+TEST(IsoOffsets, ToolParametersAreTheLoadedToolsTableEntry) {
+  // LinuxCNC set_tool_parameters: #5400 the loaded tool, #5401…#5409 its table offsets, #5410 its
+  // diameter, from M6/M61 on and whatever G43/G49 says. rs274 -g with this table (numbers as
+  // written): " a 1.000000 1.000000 0.062500" after T1 M6 before any G43, " g 2.000000 0.500000
+  // 0.250000" after T2 M6 G43 and G49.
+  core::Diagnostics d;
+  const auto tt = iso::parse_tool_table("T1 P1 Z1.0 D0.0625\nT2 P2 Z0.5 D0.25\n", "tools.tbl", d);
+  ASSERT_TRUE(d.empty());
+  iso::ParseOptions opt;
+  opt.tools = &tt;
+  const auto p = parse_ok("(DEBUG, z #5400 #5403 #5410)\nT1 M6\n(DEBUG, a #5400 #5403 #5410)\nG43\n(DEBUG, b #5403)\n"
+                          "T2 M6 G43\nG49\n(DEBUG, g #5400 #5403 #5410)\n",
+                          opt);
+  std::vector<std::string> texts;
+  for (const auto& ins : p.instructions)
+    if (const auto* m = std::get_if<Message>(&ins.op)) texts.push_back(m->text);
+  const std::vector<std::string> want = {" z 0.000000 0.000000 0.000000", " a 1.000000 1.000000 0.062500", " b 1.000000",
+                                         " g 2.000000 0.500000 0.250000"};
+  EXPECT_EQ(texts, want);
+}
+
 TEST(IsoOffsets, ToolLengthFromTheToolTable) {
   core::Diagnostics d;
   const auto tt = iso::parse_tool_table("T1 P1 D6 Z25 ; end mill\nT2 D1.5 Z-2\n", "tools.tbl", d);
