@@ -115,8 +115,10 @@ std::optional<LineError> o_header(std::string_view s, std::size_t& i, OWord& o) 
 // Comment text at s[open+1 .. close): an active comment becomes a message. As LinuxCNC's
 // convert_comment: spaces may come before the keyword, but the comma follows it directly ("(MSG ,
 // x)" is a plain comment). DEBUG and PRINT texts keep their #n and #<name> as written: they are
-// substituted when the block runs, after the line's assignments (format_message).
+// substituted when the block runs, after the line's assignments (format_message). A block has one
+// comment in LinuxCNC, the last ( ) one of its line: an earlier one is not acted on.
 void comment(std::string_view body, LexedLine& out) {
+  out.messages.clear();
   std::size_t i = 0;
   skip_spaces(body, i);
   std::string head;

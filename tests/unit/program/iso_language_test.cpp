@@ -316,6 +316,15 @@ TEST(IsoMessages, Parameter5599SwitchesDebugOutput) {
   EXPECT_EQ(message_texts(p), (std::vector<std::string>{" a 1.000000", " c", " d", " e"}));
 }
 
+TEST(IsoMessages, OnlyTheLastCommentOfALineIsActive) {
+  // A LinuxCNC block keeps one comment, the last ( ) one of the line. rs274 -g: MESSAGE(" second"),
+  // COMMENT("plain") and nothing else, MESSAGE(" fourth"), MESSAGE(" sixth") before the move,
+  // MESSAGE(" seventh") (a ';' comment does not count).
+  const auto p = parse_ok("(MSG, first) (MSG, second)\n(MSG, third) (plain)\n(plain) (MSG, fourth)\n"
+                          "G0 X1 (MSG, fifth) Y2 (DEBUG, sixth)\n(MSG, seventh) ; (MSG, eighth)\n");
+  EXPECT_EQ(message_texts(p), (std::vector<std::string>{" second", " fourth", " sixth", " seventh"}));
+}
+
 TEST(IsoM66, WaitInputAndNoBranchingOnItsResult) {
   const auto p = parse_ok("M66 P3 L3 Q2.5\n");
   const auto& w = op_at<WaitInput>(p, 1);
