@@ -511,10 +511,9 @@ class ProgramReader {
           if (o.args.size() != 1) add_error(f, pc, o.col, fmt::format("o{} repeat needs the count in [ ]", o.name));
           else n = o.args[0];
         }
-        if (n < 0 || n != std::floor(n)) {
-          add_error(f, pc, e.o.col, fmt::format("repeat count {:g} is not a whole number, 0 or more", n));
-          n = 0;
-        }
+        // LinuxCNC: repeat_count = round_to_int(value), i.e. nearbyint (2.5 runs twice, 2.6 three
+        // times), and a count of 0 or less runs the body no time.
+        n = std::max(0.0, std::nearbyint(n));
         if (n > static_cast<double>(opt_.max_loop_iterations)) {
           add_error(f, pc, e.o.col, fmt::format("repeat count {:g} is above the loop limit {}", n, opt_.max_loop_iterations));
           done_ = true;

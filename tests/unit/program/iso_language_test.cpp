@@ -157,6 +157,21 @@ TEST(IsoControlFlow, WhileDoRepeatBreakContinue) {
   EXPECT_TRUE(rapid_x(parse_ok("o16 repeat [0]\nG0 X1\no16 endrepeat\n")).empty());
 }
 
+TEST(IsoControlFlow, RepeatRoundsItsCountToTheNearestWholeNumber) {
+  // LinuxCNC: repeat_count = round_to_int(value) (nearbyint: halves to even), nothing for 0 or less.
+  // rs274 -g makes 2 moves for repeat [2.4] and [2.5], 3 for [2.6], 1 for [1.0001], none for [0.5] and
+  // [-1] (a count computed as depth / step need not be whole).
+  auto count = [](const std::string& n) {
+    return rapid_x(parse_ok("o1 repeat [" + n + "]\nG91 G0 X1\no1 endrepeat\n")).size();
+  };
+  EXPECT_EQ(count("2.4"), 2u);
+  EXPECT_EQ(count("2.5"), 2u);
+  EXPECT_EQ(count("2.6"), 3u);
+  EXPECT_EQ(count("1.0001"), 1u);
+  EXPECT_EQ(count("0.5"), 0u);
+  EXPECT_EQ(count("-1"), 0u);
+}
+
 TEST(IsoControlFlow, SubroutinesWithArgumentsLocalsAndReturnValue) {
   const auto p = parse_ok(
       "o<square> sub\n"
