@@ -272,8 +272,8 @@ std::optional<LineError> check_block(const std::vector<Word>& words, const MTabl
       case 'N':
         // RS274: the line number comes first; its value is a label only.
         if (k != 0) return LineError{w.col, "line number (N word) must be the first word of the block"};
-        if (w.value < 0 || w.value != std::floor(w.value))
-          return LineError{w.col, "line number (N word) must be a whole number, 0 or more"};
+        // LinuxCNC's read_n_number accepts and ignores a fraction (N20.5).
+        if (w.value < 0) return LineError{w.col, "line number (N word) must be 0 or more"};
         break;
       case 'F':
         if (!(w.value > 0)) return LineError{w.col, "feed rate must be greater than zero"};

@@ -229,6 +229,14 @@ TEST(IsoParser, InstructionsCarryTheBlockStart) {
   EXPECT_EQ(p.instructions[3].loc, (core::SourceLoc{0, 3, 2}));
 }
 
+TEST(IsoParser, LineNumbersMayHaveAFraction) {
+  // LinuxCNC's read_n_number accepts and ignores a fraction: rs274 -g runs "N20.5 G1 X2" as
+  // STRAIGHT_FEED(2, 0, 0). A negative one is an error there too ("Bad format unsigned integer").
+  const auto p = parse_ok("N20.5 G1 X2 F60\n");
+  EXPECT_EQ(op_at<Linear>(p, 0).end, xyz(2, 0));
+  EXPECT_EQ(one_error("N-5 G1 X2 F60\n"), "t.ngc:1:1: error: line number (N word) must be 0 or more");
+}
+
 TEST(IsoParser, PercentDelimitsTheProgram) {
   const auto p = parse_ok("%\nG0 X1\n%\nthis is not read: G0 X2 #@!\n");
   ASSERT_EQ(p.instructions.size(), 1u);
