@@ -2,6 +2,8 @@
 // and operator messages, each with the column it came from.
 #include "program/iso/lexer.hpp"
 
+#include <cmath>
+
 #include <fmt/format.h>
 
 #include "program/iso/expression.hpp"
@@ -316,6 +318,7 @@ std::string format_message(std::string_view text, const Parameters& params) {
       out += text[k++];
       continue;
     }
+    if (std::fabs(v) < 0.0001) v = 0.0;  // LinuxCNC prints a value under 0.0001 as 0.000000 (not -0.000000)
     out += found ? fmt::format("{:.6f}", v) : std::string("######");
     k = end;
   }

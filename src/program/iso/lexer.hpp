@@ -80,7 +80,8 @@ LexedLine lex_line(std::string_view line);
 
 // The text of a DEBUG or PRINT message with its parameters' values, as LinuxCNC prints them: #
 // and the digits right after it (#12, not "# 12" nor #[12]) or #<name> become the value with six
-// decimals; a parameter that does not exist becomes "######"; any other '#' stays as it is.
+// decimals (0.000000 under 0.0001); a parameter that does not exist becomes "######"; any other
+// '#' stays as it is.
 std::string format_message(std::string_view text, const Parameters& params);
 
 // #5599: DEBUG messages are shown while it is not 0 (LinuxCNC; 1 at start).

@@ -317,6 +317,15 @@ TEST(IsoMessages, DebugSubstitutesAsLinuxCnc) {
   EXPECT_EQ(message_texts(p), want);
 }
 
+TEST(IsoMessages, DebugPrintsValuesUnder0_0001AsZero) {
+  // rs274 -g: 0.00009 and -0.0000006 print as " 0.000000", 0.0001 as " 0.000100", -0.0001 as
+  // " -0.000100", 1.000001 as " 1.000001".
+  const auto p = parse_ok("#1=0.00009\n(DEBUG, #1)\n#1=-0.0000006\n(DEBUG, #1)\n#1=0.0001\n(DEBUG, #1)\n"
+                          "#1=-0.0001\n(DEBUG, #1)\n#1=1.000001\n(DEBUG, #1)\n");
+  EXPECT_EQ(message_texts(p),
+            (std::vector<std::string>{" 0.000000", " 0.000000", " 0.000100", " -0.000100", " 1.000001"}));
+}
+
 TEST(IsoMessages, TheCommaFollowsTheKeyword) {
   // LinuxCNC's convert_comment: spaces may come before MSG/DEBUG/PRINT but not between it and the
   // comma. rs274 -g: "(MSG , s)" is COMMENT("MSG , s"), "(  MSG, t)" MESSAGE(" t").
