@@ -47,7 +47,9 @@ std::optional<std::string> centre_from_radius(const core::Vec& start, const core
   const double abs_r = std::fabs(r);
   const double m0 = (s0 + e0) / 2, m1 = (s1 + e1) / 2;
   double half = std::hypot(m0 - e0, m1 - e1);
-  if (abs_r == 0 || half / abs_r > 1 + kArcTiny)
+  // LinuxCNC 2.9 arc_data_r: a radius short of half the chord by up to RADIUS_TOLERANCE (0.00005 in,
+  // 0.00127 mm) makes a half circle; shorter is refused.
+  if (abs_r == 0 || half - abs_r > kArcRadiusToleranceMm)
     return fmt::format("arc radius {:.4f} mm is too small to reach the end point ({:.4f} mm away)", abs_r, 2 * half);
   if (half / abs_r > 1 - kArcTiny) half = abs_r;  // a semicircle, give or take rounding
   // The centre lies on the perpendicular bisector: to the right of start→end for a short G2 (or a

@@ -19,6 +19,9 @@ inline constexpr double kArcRadiusAbsToleranceMm = 0.02 * 1.4142135623730951;
 inline constexpr double kArcRadiusAbsToleranceInchMm = 0.002 * 1.4142135623730951 * kMmPerInch;
 inline constexpr double kArcRadiusRelTolerance = 0.001;  // LinuxCNC SPIRAL_RELATIVE_TOLERANCE
 inline constexpr double kArcTiny = 1e-12;                // LinuxCNC TINY, for R-format arcs
+// How much shorter than half the chord an R-format radius may be (LinuxCNC RADIUS_TOLERANCE_INCH =
+// 0.00005 in, RADIUS_TOLERANCE_MM the same in mm, passed to arc_data_r): it then makes a half circle.
+inline constexpr double kArcRadiusToleranceMm = 0.00005 * kMmPerInch;
 
 // Largest accepted |r_end - r_start| for radii up to `r_max_mm`. LinuxCNC refuses an arc when the
 // difference is above 100 × abs, or above both abs and rel × r_max; so the allowance is
@@ -39,7 +42,8 @@ struct ArcRequest {
 std::optional<std::string> make_arc(const ArcRequest& rq, Arc& out);
 
 // R format (LinuxCNC arc_data_r): the centre of the arc of radius |r| from start to end in the
-// plane; r < 0 asks for the arc of more than half a circle. No full circles.
+// plane; r < 0 asks for the arc of more than half a circle. No full circles. A radius up to
+// kArcRadiusToleranceMm short of half the chord makes a half circle.
 std::optional<std::string> centre_from_radius(const core::Vec& start, const core::Vec& end, PlaneAxes plane, double r_mm,
                                               bool clockwise, double& c0, double& c1);
 

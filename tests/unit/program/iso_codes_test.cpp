@@ -58,6 +58,28 @@ TEST(IsoArcs, RadiusFormatErrors) {
             "t.ngc:1:7: error: R word together with centre words: give the arc either a radius or a centre");
 }
 
+TEST(IsoArcs, RadiusFormatAllowsARadiusJustShortOfHalfTheChord) {
+  // LinuxCNC 2.9 arc_data_r refuses only when half the chord exceeds |R| by more than
+  // RADIUS_TOLERANCE (0.00005 in = 0.00127 mm); up to that it makes a half circle. rs274 -g:
+  // "G3 X20 Y0 R9.999" from (0, 0) is ARC_FEED(20, 0, 10, 0, 1, ..), "G2 X0 Y0 R-9.9988" back
+  // ARC_FEED(0, 0, 10, -0, -1, ..), "G3 X20 Y0 R9.9987" is "Arc radius too small to reach end point",
+  // and in G20 "G3 X2 Y0 R0.99996" is ARC_FEED(2, 0, 1, 0, 1, ..).
+  const auto a = all<Arc>(parse_ok("G3 X20 Y0 R9.999 F60\nG2 X0 Y0 R-9.9988\n"));
+  ASSERT_EQ(a.size(), 2u);
+  EXPECT_NEAR(a[0].center0, 10, 1e-9);
+  EXPECT_NEAR(a[0].center1, 0, 1e-9);
+  EXPECT_EQ(a[0].turns, 1);
+  EXPECT_NEAR(a[1].center0, 10, 1e-9);
+  EXPECT_NEAR(a[1].center1, 0, 1e-9);
+  EXPECT_EQ(a[1].turns, -1);
+  EXPECT_EQ(one_error("G3 X20 Y0 R9.9987 F60\n"),
+            "t.ngc:1:1: error: arc radius 9.9987 mm is too small to reach the end point (20.0000 mm away)");
+  const auto inch = all<Arc>(parse_ok("G20 G3 X2 Y0 R0.99996 F60\n"));
+  ASSERT_EQ(inch.size(), 1u);
+  EXPECT_NEAR(inch[0].center0, 25.4, 1e-9);
+  EXPECT_NEAR(inch[0].center1, 0, 1e-9);
+}
+
 TEST(IsoArcs, PlanesG18AndG19WithHelix) {
   // G18: arc in (Z, X), normal Y; centre words K (Z) and I (X).
   const auto a = all<Arc>(parse_ok("G0 X10 Z0\nG18 G3 X0 Z10 Y5 I-10 K0 F60\n"));
