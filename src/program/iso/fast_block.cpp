@@ -17,7 +17,7 @@ namespace softmc::program::iso {
 namespace {
 
 bool plain_state(const ModalState& st) {
-  if (st.ended || st.comp != Comp::Off || st.feed_mode != FeedMode::PerMinute) return false;
+  if (st.ended || st.comp != Comp::Off || st.feed_mode != FeedMode::PerMinute || st.arc_not_allowed) return false;
   // No offsets at all, bit for bit (as interpreter.cpp's no_offsets): machine = program + 0.
   std::uint64_t bits = std::bit_cast<std::uint64_t>(st.rotation_deg);
   for (std::size_t a = 0; a < core::kMaxAxes; ++a)

@@ -238,7 +238,10 @@ std::optional<LineError> Exec::modes() {
   if (b.comp) {
     const int c = b.comp->value;
     if (c == 400) {
-      if (st.comp != Comp::Off) out.comp = BlockOutput::CompChange{out.ops.size(), false};
+      if (st.comp != Comp::Off) {
+        out.comp = BlockOutput::CompChange{out.ops.size(), false};
+        st.arc_not_allowed = st.comp_radius_mm > 0 && st.comp_moved;
+      }
       st.comp = Comp::Off;
     } else {
       if (st.comp != Comp::Off)
@@ -263,6 +266,8 @@ std::optional<LineError> Exec::modes() {
       }
       const auto pa = axes_of(st.plane);
       st.comp = (c == 410 || c == 411) ? Comp::Left : Comp::Right;
+      st.comp_radius_mm = radius;
+      st.comp_moved = false;
       out.comp = BlockOutput::CompChange{out.ops.size(), true, st.comp == Comp::Left ? CompSide::Left : CompSide::Right,
                                          radius, pa.a0, pa.a1};
     }
@@ -354,6 +359,7 @@ std::optional<LineError> Exec::motion() {
     if (st.comp != Comp::Off) return error(*b.g53_col, "G53 cannot be used with cutter radius compensation on");
   }
   if (!moves || st.motion == Motion::None) return std::nullopt;
+  if (st.comp != Comp::Off) st.comp_moved = true;
   const std::uint32_t col = b.motion ? b.motion->col : b.first_position_col();
   // The feed is checked before the geometry: it is the first thing missing in a CAM-less program.
   if (is_feed_motion(st.motion) && st.motion != Motion::Nurbs && st.feed_mode == FeedMode::PerMinute && !st.feed_mm_s &&
@@ -372,6 +378,7 @@ std::optional<LineError> Exec::motion() {
 }
 
 std::optional<LineError> Exec::straight(bool rapid, std::uint32_t col) {
+  st.arc_not_allowed = false;  // LinuxCNC convert_straight
   std::uint16_t named = 0;
   core::Vec end;
   if (b.g53_col) {
@@ -407,6 +414,9 @@ std::optional<LineError> Exec::arc(std::uint32_t col) {
   static constexpr char kCentre[3] = {'I', 'J', 'K'};  // offsets along X, Y, Z
   const char l0 = core::letter(pa.a0), l1 = core::letter(pa.a1);
   const char c0 = kCentre[pa.a0], c1 = kCentre[pa.a1], cn = kCentre[pa.n];
+  if (st.arc_not_allowed)
+    return error(col, "the move just after G40 must be straight, not an arc: it starts where the tool is, not at "
+                      "the programmed point (LinuxCNC)");
   if (st.rotation_deg != 0 && st.plane != Plane::XY)
     return error(col, "arcs in G18/G19 on a rotated coordinate system are not supported");
   if (b.has(cn)) return error(b.word(cn)->col, fmt::format("{} word in a {} arc: the centre is given by {} and {}", cn,

@@ -45,6 +45,12 @@ struct ModalState {
   int current_tool = 0;   // after M6 / M61
 
   Comp comp = Comp::Off;
+  double comp_radius_mm = 0;     // of the compensation in effect
+  bool comp_moved = false;       // a move was made since G41/G42
+  // After G40 ends a compensation that moved, the next move must be straight (LinuxCNC
+  // arc_not_allowed): it starts where the tool is, not at the programmed point an arc's centre
+  // words count from. A G0/G1 clears it.
+  bool arc_not_allowed = false;
 
   // Canned cycle words that stay in effect while the cycle repeats (LinuxCNC cycle_cc, _r, _p, _q).
   double cycle_cc = 0, cycle_r = 0, cycle_p = 0, cycle_q = 0;

@@ -345,3 +345,25 @@ TEST(IsoCutterComp, ErrorLeavesStateUnchanged) {
   EXPECT_TRUE(at_xy(std::get<Linear>(out[0].op).end, 10, 1));
   EXPECT_TRUE(at_xy(c.tool_position(), 10, 1));
 }
+
+// LinuxCNC (arc_not_allowed): after G40 ends a compensation that moved, the next move must be
+// straight; its start is the tool position, not the programmed point the centre words count from.
+// rs274 -g: "The move just after exiting cutter compensation mode must be straight, not an arc" for
+// "G40 G2 X30 Y30 I5 J5" and for a G2 on the line after G40; after a G0 (even Z only) arcs are fine
+// again: ARC_FEED(40, 30, 35, 30, -1, ..) below.
+TEST(IsoCutterComp, TheMoveAfterG40MustBeStraight) {
+  const std::string body = "G21 G90 G17 F300\nG0 X-10 Y-10\nG41.1 D2 G1 X0 Y0\nG1 X20\nG1 Y20\n";
+  EXPECT_EQ(one_error(body + "G40 G2 X30 Y30 I5 J5\n"),
+            "t.ngc:6:5: error: the move just after G40 must be straight, not an arc: it starts where the tool is, not "
+            "at the programmed point (LinuxCNC)");
+  EXPECT_EQ(one_error(body + "G40\nG2 X30 Y30 I5 J5\n").rfind("t.ngc:7:1: error: the move just after G40", 0), 0u);
+  const auto p = parse_ok(body + "G40\nG0 Z5\nG0 X30 Y30\nG2 X40 Y30 I5 J0\n");
+  const auto m = motions(p.instructions);
+  ASSERT_FALSE(m.empty());
+  const auto& a = std::get<Arc>(m.back().op);
+  EXPECT_TRUE(at_xy(a.end, 40, 30));
+  EXPECT_NEAR(a.center0, 35, kTol);
+  EXPECT_NEAR(a.center1, 30, kTol);
+  // Compensation switched on and off without a move leaves arcs allowed, as in LinuxCNC.
+  parse_ok("G21 G90 G17 F300\nG0 X0 Y0\nG41.1 D2\nG40\nG2 X10 Y0 I5 J0\n");
+}
