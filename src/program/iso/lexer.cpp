@@ -77,6 +77,26 @@ OKeyword keyword_of(std::string_view w, bool& ok) {
   return OKeyword::Sub;
 }
 
+// A bare O-word at s[i] (the 'O'): "O0001" or "o<name>" with nothing after it but spaces and
+// comments. LinuxCNC 2.9 reads it as a (Fanuc-style) program number and does nothing with it in the
+// program; CAM posts put one on the first line. Returns the index after it, or npos.
+std::size_t bare_o_word(std::string_view s, std::size_t i) {
+  ++i;
+  skip_spaces(s, i);
+  if (i < s.size() && s[i] == '<') {
+    const std::size_t close = s.find('>', i);
+    if (close == std::string_view::npos) return std::string_view::npos;
+    i = close + 1;
+  } else {
+    const std::size_t digits = i;
+    while (i < s.size() && (is_digit(s[i]) || is_space(s[i]))) ++i;
+    if (i == digits) return std::string_view::npos;
+  }
+  std::size_t j = i;
+  skip_spaces(s, j);
+  return (j >= s.size() || s[j] == '(' || s[j] == ';') ? i : std::string_view::npos;
+}
+
 // O-word header at s[i] (the 'O'): name and keyword. Leaves i after the keyword.
 std::optional<LineError> o_header(std::string_view s, std::size_t& i, OWord& o) {
   o.col = col_of(i);
@@ -229,6 +249,10 @@ void lex_line(std::string_view s, const Parameters& params, LexedLine& out) {
       if (!only_n || !out.assignments.empty()) {
         fail(LineError{col_of(i), "O word must be the first word of its line (after an optional N)"});
         break;
+      }
+      if (const std::size_t after = bare_o_word(s, i); after != std::string_view::npos) {
+        i = after;  // a program number: nothing to do
+        continue;
       }
       OWord o;
       if (auto e = o_header(s, i, o)) {

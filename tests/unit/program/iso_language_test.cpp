@@ -157,6 +157,14 @@ TEST(IsoControlFlow, WhileDoRepeatBreakContinue) {
   EXPECT_TRUE(rapid_x(parse_ok("o16 repeat [0]\nG0 X1\no16 endrepeat\n")).empty());
 }
 
+TEST(IsoControlFlow, ABareOWordIsAProgramNumber) {
+  // LinuxCNC 2.9 reads "O0001" (or "o<name>") alone on its line as a Fanuc-style program number and
+  // goes on: rs274 -g runs "O0001 / G21 F100 / G1 X1" as STRAIGHT_FEED(1, ..), also with "N5 O0001",
+  // a comment after it, or in the middle of the program. With anything else after it, it is an error.
+  EXPECT_EQ(rapid_x(parse_ok("%\nO0001 (PART 7)\nG0 X1\nN5 O0002\no<name>\nG0 X2\n%\n")), (std::vector<double>{1, 2}));
+  EXPECT_EQ(one_error("O0001 G21\n"), "t.ngc:1:1: error: unknown O-word keyword 'g'");
+}
+
 TEST(IsoControlFlow, RepeatRoundsItsCountToTheNearestWholeNumber) {
   // LinuxCNC: repeat_count = round_to_int(value) (nearbyint: halves to even), nothing for 0 or less.
   // rs274 -g makes 2 moves for repeat [2.4] and [2.5], 3 for [2.6], 1 for [1.0001], none for [0.5] and
