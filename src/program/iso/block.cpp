@@ -172,6 +172,9 @@ std::optional<LineError> apply_m(const Word& w, const MTable& mt, Block& b) {
     case 67: case 68: return LineError{w.col, fmt::format("M{} (analog output) is not supported", n)};
     case 70: case 71: case 72: case 73:
       return LineError{w.col, fmt::format("M{} (save/restore modal state) is not supported", n)};
+    case 98: case 99:
+      return LineError{w.col, fmt::format("M{} (Fanuc-style subprogram call/return) is not supported: use o-word "
+                                          "subroutines (o<name> sub … endsub, o<name> call)", n)};
     default: break;
   }
   const int num = static_cast<int>(n);
