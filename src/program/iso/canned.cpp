@@ -178,6 +178,15 @@ std::optional<LineError> Exec::cycle(std::uint32_t col) {
     current_cc = r;
   }
   const double clear = st.retract == Retract::RPlane ? r : old_cc;
+  // LinuxCNC convert_cycle_*: the cycle's moves (after the rise to R) run in exact path mode (G61),
+  // and the mode in effect comes back after them: no corner of a cycle is blended, so neither the
+  // approach of a hole nor G87's moves inside a bore cut a corner.
+  const bool exact_already = st.path_programmed && st.path.kind == PathKind::ExactPath;
+  if (!exact_already) {
+    PathMode exact;
+    exact.kind = PathKind::ExactPath;
+    emit(exact);
+  }
   // LinuxCNC backs off 0.010 in in inch programs and 0.254 mm in mm programs: 0.254 mm either way.
   const double back_off = kRapidDeltaInch * kMmPerInch;
   std::size_t guard = 0;
@@ -283,6 +292,13 @@ std::optional<LineError> Exec::cycle(std::uint32_t col) {
         break;
       default: break;
     }
+  }
+  if (!exact_already) {
+    // Back to the program's mode; a program that named none goes back to the machine's default
+    // (a blend without P: channel.cpp takes the configured tolerance).
+    PathMode back;
+    back.kind = PathKind::Blend;
+    emit(st.path_programmed ? st.path : back);
   }
   st.cycle_cc = cc_word;
   st.cycle_r = r_word;

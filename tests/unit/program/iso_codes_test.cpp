@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "iso_test_util.hpp"
 #include "program/iso/m_functions.hpp"
 #include "program/iso/tool_table.hpp"
@@ -253,7 +255,34 @@ TEST(IsoCannedCycles, G81DrillWithG98AndG99) {
                                        xyz(15, 5, 10), xyz(15, 5, 1), xyz(15, 5, -2), xyz(15, 5, 10),
                                        xyz(25, 5, 10), xyz(25, 5, 1), xyz(25, 5, -2), xyz(25, 5, 1)};
   EXPECT_EQ(e, want);
-  EXPECT_TRUE(std::holds_alternative<Linear>(p.instructions[3].op));  // the drilling move feeds
+  EXPECT_TRUE(std::holds_alternative<Linear>(p.instructions[4].op));  // the drilling move feeds (after G61)
+}
+
+TEST(IsoCannedCycles, CyclesRunInExactPathModeAndRestoreTheModeAfter) {
+  // LinuxCNC convert_cycle_*: after the rise to R, SET_MOTION_CONTROL_MODE(CANON_EXACT_PATH), the
+  // cycle, then the saved mode again; nothing when G61 is already in effect. rs274 -g for
+  // "G64 P0.5 / G0 X0 Y0 Z0 / G81 X10 Y10 Z-5 R2 / G61.1 / G81 X20 .. / G61 / G81 X30 ..":
+  // TRAVERSE(0, 0, 2), EXACT_PATH, the cycle, CONTINUOUS 0.5; EXACT_STOP, the rise to R (from the
+  // run's initial level Z0: a move of length 0), EXACT_PATH, the cycle, EXACT_STOP; EXACT_PATH (G61),
+  // the rise and the cycle with no switch.
+  const auto p = parse_ok("G64 P0.5\nG0 X0 Y0 Z0\nG81 X10 Y10 Z-5 R2 F60\nG61.1\nG81 X20 Y10 Z-5 R2\nG61\nG81 X30 Z-5 R2\n");
+  std::vector<std::string> seq;
+  for (const auto& ins : p.instructions) {
+    if (const auto* m = std::get_if<PathMode>(&ins.op))
+      seq.push_back(m->kind == PathKind::ExactPath ? "G61" : m->kind == PathKind::ExactStop ? "G61.1" : fmt::format("G64 P{:g}", m->tolerance_mm));
+    else if (const auto* r = std::get_if<Rapid>(&ins.op)) seq.push_back(fmt::format("rapid z{:g}", r->end[2]));
+    else if (std::holds_alternative<Linear>(ins.op)) seq.push_back("feed");
+  }
+  const std::vector<std::string> want = {
+      "G64 P0.5", "rapid z0", "rapid z2", "G61", "rapid z2", "feed", "rapid z2", "G64 P0.5",  // line 3
+      "G61.1", "rapid z2", "G61", "rapid z2", "feed", "rapid z2", "G61.1",                    // lines 4-5
+      "G61", "rapid z2", "rapid z2", "feed", "rapid z2"};                                     // lines 6-7
+  EXPECT_EQ(seq, want);
+  // With no path mode named, the cycle goes back to the machine's default: a blend without P.
+  const auto q = parse_ok("G0 Z5\nG81 X1 Z-1 R1 F60\n");
+  const auto& back = std::get<PathMode>(q.instructions.back().op);
+  EXPECT_EQ(back.kind, PathKind::Blend);
+  EXPECT_EQ(back.tolerance_mm, 0);
 }
 
 TEST(IsoCannedCycles, G83PeckAndG73ChipBreak) {
