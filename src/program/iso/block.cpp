@@ -279,7 +279,9 @@ std::optional<LineError> check_block(const std::vector<Word>& words, const MTabl
         if (w.value < 0) return LineError{w.col, "line number (N word) must be 0 or more"};
         break;
       case 'F':
-        if (!(w.value > 0)) return LineError{w.col, "feed rate must be greater than zero"};
+        // F0 is a feed rate like any other until a feed move needs it (LinuxCNC: "Cannot do g1 with
+        // zero feed rate" at the move); a negative one is refused where it stands.
+        if (w.value < 0) return LineError{w.col, "feed rate (F) must be 0 or more"};
         break;
       case 'S':
         if (w.value < 0) return LineError{w.col, "spindle speed (S) must be 0 or more"};

@@ -96,7 +96,7 @@ bool fast_straight_block(std::string_view s, ModalState& st, FastBlock& out) {
   std::optional<double> feed_mm_s = st.feed_mm_s;
   if (has_f) feed_mm_s = f * k / 60.0;
   const bool moves = has_axes || g >= 0;
-  if (moves && (motion == Motion::Linear || arc) && !feed_mm_s) return false;  // "feed rate missing"
+  if (moves && (motion == Motion::Linear || arc) && !(feed_mm_s && *feed_mm_s > 0)) return false;  // missing or 0
   std::optional<Arc> a;  // not constructed (zeroed) for the straight moves
   if (arc) {
     // Exec::arc in the XY plane, centre format: anything else (other planes, R, P, K, no X and no

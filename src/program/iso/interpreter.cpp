@@ -86,15 +86,20 @@ std::optional<LineError> Exec::feed_for(std::uint32_t col, double length_mm, dou
   if (st.feed_mode == FeedMode::InverseTime) {
     if (!st.feed_in_block && !st.feed_uncertain)
       return error(col, "inverse time feed (G93): every feed move needs its own F word");
+    if (!(st.feed_word > 0) && !st.feed_uncertain)
+      return error(col, "inverse time feed (G93): F must be greater than 0 (moves per minute)");
     const double minutes = st.feed_word > 0 ? 1.0 / st.feed_word : 1.0;
     const double path = length_mm > 0 ? length_mm : rotary_deg;
     feed = path / (minutes * 60.0);
-    if (!(feed > 0)) feed = st.feed_mm_s.value_or(1.0);  // a move of length 0: any positive speed
+    if (!(feed > 0)) feed = st.feed_mm_s && *st.feed_mm_s > 0 ? *st.feed_mm_s : 1.0;  // a move of length 0: any positive speed
     return std::nullopt;
   }
   if (!st.feed_mm_s && !st.feed_uncertain)
     return error(col, "feed rate missing: program an F word before the first feed move");
+  if (st.feed_mm_s && !(*st.feed_mm_s > 0) && !st.feed_uncertain)
+    return error(col, "feed rate is 0: a feed move needs an F greater than 0");
   feed = st.feed_mm_s.value_or(1.0);
+  if (!(feed > 0)) feed = 1.0;  // only after an earlier error (feed_uncertain): any positive speed
   // A move of rotary axes only takes F in degrees per minute, whatever G20/G21 (LinuxCNC).
   if (length_mm == 0 && rotary_deg > 0 && st.units == Units::Inch) feed /= kMmPerInch;
   return std::nullopt;

@@ -21,8 +21,16 @@ TEST(IsoDiagnostics, FeedMissingNamesLineAndColumnOfTheMotionWord) {
 }
 
 TEST(IsoDiagnostics, FeedMustBePositive) {
-  EXPECT_EQ(one_error("G1 X1 F0\n"), "t.ngc:1:7: error: feed rate must be greater than zero");
-  EXPECT_EQ(one_error("G1 X1 F-60\n"), "t.ngc:1:7: error: feed rate must be greater than zero");
+  // LinuxCNC takes F0 and refuses the feed move that needs it (rs274 -g: "Cannot do g1 with zero feed
+  // rate", "Cannot make arc with zero feed rate", "Cannot feed with zero feed rate" for G81); "F0"
+  // alone and "G0 X1 F0" run. A negative F is refused at the word ("Negative f word used").
+  EXPECT_EQ(one_error("G1 X1 F0\n"), "t.ngc:1:1: error: feed rate is 0: a feed move needs an F greater than 0");
+  EXPECT_EQ(one_error("F0\nG2 X2 I1\n"), "t.ngc:2:1: error: feed rate is 0: a feed move needs an F greater than 0");
+  EXPECT_EQ(one_error("F0\nG0 Z5\nG81 X1 Z-1 R1\n"), "t.ngc:3:1: error: feed rate is 0: a feed move needs an F greater than 0");
+  EXPECT_EQ(one_error("F100\nG1 X1\nF0\nX2\n"), "t.ngc:4:1: error: feed rate is 0: a feed move needs an F greater than 0");
+  EXPECT_EQ(one_error("G1 X1 F-60\n"), "t.ngc:1:7: error: feed rate (F) must be 0 or more");
+  const auto p = parse_ok("F0\nG0 X1 F0\nG1 X2 F60\n");
+  EXPECT_EQ(op_at<Linear>(p, 1).feed_mm_s, 1.0);
 }
 
 TEST(IsoDiagnostics, TwoMotionWordsInOneBlock) {
