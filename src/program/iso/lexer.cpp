@@ -139,8 +139,9 @@ std::optional<LineError> o_header(std::string_view s, std::size_t& i, OWord& o) 
 // x)" is a plain comment). DEBUG and PRINT texts keep their #n and #<name> as written: they are
 // substituted when the block runs, after the line's assignments (format_message). A block has one
 // comment in LinuxCNC, the last ( ) one of its line: an earlier one is not acted on.
-void comment(std::string_view body, LexedLine& out) {
+void comment(std::string_view body, std::uint32_t col, LexedLine& out) {
   out.messages.clear();
+  out.abort.reset();
   std::size_t i = 0;
   skip_spaces(body, i);
   std::string head;
@@ -151,7 +152,11 @@ void comment(std::string_view body, LexedLine& out) {
   if (head == "msg") kind = MessageKind::Msg;
   else if (head == "debug") kind = MessageKind::Debug;
   else if (head == "print") kind = MessageKind::Print;
-  else return;
+  else if (head == "abort") {
+    out.abort = std::string(body.substr(j + 1));
+    out.abort_col = col;
+    return;
+  } else return;
   out.messages.push_back(LineMessage{kind, std::string(body.substr(j + 1))});
 }
 
@@ -184,6 +189,7 @@ void lex_line(std::string_view s, const Parameters& params, LexedLine& out) {
   out.assignments.clear();
   out.o.reset();
   out.messages.clear();
+  out.abort.reset();
   out.error.reset();
   std::size_t i = 0;
   skip_spaces(s, i);
@@ -214,7 +220,7 @@ void lex_line(std::string_view s, const Parameters& params, LexedLine& out) {
         fail(LineError{col_of(open), "comment has no closing ')'"});
         break;
       }
-      comment(s.substr(open + 1, i - open - 1), out);
+      comment(s.substr(open + 1, i - open - 1), col_of(open), out);
       ++i;
       continue;
     }
@@ -269,7 +275,7 @@ void lex_line(std::string_view s, const Parameters& params, LexedLine& out) {
             fail(LineError{col_of(i), "comment has no closing ')'"});
             break;
           }
-          comment(s.substr(i + 1, close - i - 1), out);
+          comment(s.substr(i + 1, close - i - 1), col_of(i), out);
           i = close + 1;
           continue;
         }
@@ -308,7 +314,7 @@ void lex_line(std::string_view s, const Parameters& params, LexedLine& out) {
     }
     fail(LineError{col_of(i), unexpected(c)});
   }
-  const bool has_content = !out.words.empty() || !out.assignments.empty() || out.o || !out.messages.empty();
+  const bool has_content = !out.words.empty() || !out.assignments.empty() || out.o || !out.messages.empty() || out.abort;
   out.kind = (has_content || out.error) ? LineKind::Block : LineKind::Empty;
 }
 

@@ -69,6 +69,8 @@ struct LexedLine {
   std::vector<Assignment> assignments;
   std::optional<OWord> o;
   std::vector<LineMessage> messages;
+  std::optional<std::string> abort;  // (ABORT, text): the text as written (LinuxCNC 2.9 stops the program)
+  std::uint32_t abort_col = 0;       // of its '(' 
   std::optional<LineError> error;   // the first error; the rest of the line is then incomplete
 };
 

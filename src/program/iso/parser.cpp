@@ -258,6 +258,7 @@ class ProgramReader {
         add_error(f, pc, a.col, std::move(*err));
       }
     }
+    if (aborts(f, pc)) return;
     if (lexed_.words.empty()) {
       emit_messages(f, pc, lexed_.assignments.empty() ? 1 : lexed_.assignments.front().col);
       return;
@@ -286,6 +287,18 @@ class ProgramReader {
       nurbs_open_ = core::SourceLoc{static_cast<std::uint16_t>(f), line_no(pc), block_.motion->col};
     position_params_stale_ = true;
     if (state_.ended && frames_.size() > 1) done_ = true;  // M2/M30 in a subroutine ends everything
+  }
+
+  // (ABORT, text), LinuxCNC 2.9: the program stops there with the text (parameters substituted as
+  // for DEBUG) as its error. A block's comment acts before the rest of the block.
+  bool aborts(std::size_t f, std::size_t pc) {
+    if (!lexed_.abort) return false;
+    std::string text = format_message(*lexed_.abort, params_);
+    const auto first = text.find_first_not_of(" \t");
+    text.erase(0, first == std::string::npos ? text.size() : first);
+    add_error(f, pc, lexed_.abort_col, fmt::format("the program aborts here (ABORT): {}", text));
+    done_ = true;
+    return true;
   }
 
   // DEBUG and PRINT show the parameters as they are when the block runs: after the line's own
@@ -365,6 +378,7 @@ class ProgramReader {
       return false;
     }
     if (!lexed_.o) return false;
+    if (aborts(f, pc)) return false;
     emit_messages(f, pc, lexed_.o->col);
     out = std::move(*lexed_.o);
     return true;

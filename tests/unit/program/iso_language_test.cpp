@@ -357,6 +357,16 @@ TEST(IsoMessages, OnlyTheLastCommentOfALineIsActive) {
   EXPECT_EQ(message_texts(p), (std::vector<std::string>{" second", " fourth", " sixth", " seventh"}));
 }
 
+TEST(IsoMessages, AbortStopsTheProgramWithItsText) {
+  // LinuxCNC 2.9: "(ABORT, text)" stops the program with the text as its error, parameters
+  // substituted as for DEBUG (rs274 -g: " x=3.000000 y=######", and no move after it); one in a
+  // branch that is not taken does nothing.
+  EXPECT_EQ(one_error("#1=3\nG0 X1\n(abort, x=#1 y=#<_nope>)\nG0 X2\n"),
+            "t.ngc:3:1: error: the program aborts here (ABORT): x=3.000000 y=######");
+  EXPECT_EQ(one_error("G0 X1 (ABORT, stop)\n"), "t.ngc:1:7: error: the program aborts here (ABORT): stop");
+  EXPECT_EQ(rapid_x(parse_ok("#1=3\no1 if [#1 GT 5]\n(ABORT, too big)\no1 endif\nG0 X1\n")), (std::vector<double>{1}));
+}
+
 TEST(IsoM66, WaitInputAndNoBranchingOnItsResult) {
   const auto p = parse_ok("M66 P3 L3 Q2.5\n");
   const auto& w = op_at<WaitInput>(p, 1);
