@@ -17,6 +17,8 @@ namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
+}  // namespace
+
 void rotate_xy(core::Vec& v, double deg) {
   if (deg == 0) return;
   const double c = std::cos(deg * kDeg), s = std::sin(deg * kDeg);
@@ -25,6 +27,8 @@ void rotate_xy(core::Vec& v, double deg) {
   v[0] = x;
   v[1] = y;
 }
+
+namespace {
 
 const char* word_users(char letter) {
   switch (letter) {

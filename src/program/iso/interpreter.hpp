@@ -60,6 +60,8 @@ std::optional<LineError> execute(const Block& b, ModalState& state, const Parame
                                  BlockOutput& out);
 
 // Machine position of a program point under the state's offsets, and back (P-1 position spaces).
+// Turns (x, y) by `deg` degrees counter-clockwise (the G10 L2 R rotation of a coordinate system).
+void rotate_xy(core::Vec& v, double deg);
 core::Vec to_machine(const ModalState& st, const core::Vec& program);
 core::Vec to_program(const ModalState& st, const core::Vec& machine);
 

@@ -76,18 +76,39 @@ std::optional<LineError> Exec::setup() {
           write_param(rotation_param(n), r->value);
           if (current) st.rotation_deg = r->value;
         }
-        const bool rotated = current ? st.rotation_deg != 0 : param(rotation_param(n)) != 0;
-        if (l->value == 20 && rotated && (b.has('X') || b.has('Y')))
-          return error(col, "G10 L20 on a rotated coordinate system is not supported");
-        // L20: offsets chosen so that the current position gets the given coordinates.
+        // L20: offsets chosen so that the current position gets the given coordinates in system n
+        // (machine = rotate(program + axis) + work + tool). In a rotated system X and Y go together:
+        // the one not given keeps its current coordinate there (LinuxCNC convert_setup).
         const core::Vec here = st.position - st.tool;  // machine position of the program origin chain
+        const double rot = current ? st.rotation_deg : param(rotation_param(n));
+        core::Vec target = here;
+        if (l->value == 20) {
+          for (std::size_t a = 0; a < core::kMaxAxes; ++a) target[a] -= param(coord_param(n, a));
+          rotate_xy(target, -rot);
+          target = target - st.axis;  // the current position in system n's program coordinates
+        }
+        bool xy = false;
         for (std::size_t a = 0; a < core::kMaxAxes; ++a) {
           const auto& x = w(core::letter(a));
           if (!x) continue;
           const double v = x->value * scale(a);
+          if (l->value == 20 && a < 2 && rot != 0) {
+            target[a] = v;
+            xy = true;
+            continue;
+          }
           const double off = l->value == 2 ? v : here[a] - st.axis[a] - v;
           write_param(coord_param(n, a), off);
           if (current) st.work[a] = off;
+        }
+        if (xy) {
+          core::Vec p = target + st.axis;
+          rotate_xy(p, rot);
+          for (std::size_t a = 0; a < 2; ++a) {
+            const double off = here[a] - p[a];
+            write_param(coord_param(n, a), off);
+            if (current) st.work[a] = off;
+          }
         }
         if (current) emit_offsets();
         return std::nullopt;

@@ -126,6 +126,31 @@ TEST(IsoOffsets, G10L20MakesTheCurrentPositionTheGivenCoordinate) {
   EXPECT_EQ(e[2], xyz(60, 80));  // #5221 = 30, in G54 → machine 60
 }
 
+TEST(IsoOffsets, G10L20OnARotatedCoordinateSystem) {
+  // LinuxCNC 2.9 convert_setup: in a rotated system X and Y are found together, the one not given
+  // keeping its current coordinate there; G92 counts as in every move. rs274 -g prints
+  // SET_G5X_OFFSET(2, 13.4641, 22.0000, ..), (2, 10.4641, 27.1962, ..), (2, 10.6962, 30.7942, ..)
+  // and (2, -1.4641, -5.4641, ..) for the four L20 below (G55 rotated 30°).
+  const auto p = parse_ok(
+      "G10 L2 P2 X10 Y20 R30\nG55 G0 X5 Y7\nG10 L20 P2 X1\nG0 X3 Y4\nG10 L20 P0 Y-2\nG0 X6 Y6\nG92 X1 Y1\n"
+      "G0 X2 Y3\nG10 L20 P2 X0 Y0\nG0 X1 Y1\nG92.1\nG54 G0 X0 Y0\nG10 L20 P2 X4 Y4\nG55 G0 X0 Y0\n");
+  std::vector<std::pair<double, double>> g55;
+  for (const auto& o : all<OffsetsChanged>(p))
+    if (o.coord_system == 2) g55.emplace_back(o.work[0], o.work[1]);
+  const std::vector<std::pair<double, double>> want = {
+      {10, 20}, {13.4641, 22.0}, {10.4641, 27.1962}, {10.6962, 30.7942}, {-1.4641, -5.4641}};
+  ASSERT_GE(g55.size(), want.size());
+  std::vector<std::pair<double, double>> distinct;  // G92 and the G55 select repeat the same offsets
+  for (const auto& w : g55)
+    if (distinct.empty() || std::fabs(distinct.back().first - w.first) + std::fabs(distinct.back().second - w.second) > 1e-9)
+      distinct.push_back(w);
+  ASSERT_EQ(distinct.size(), want.size());
+  for (std::size_t i = 0; i < want.size(); ++i) {
+    EXPECT_NEAR(distinct[i].first, want[i].first, 1e-4) << i;
+    EXPECT_NEAR(distinct[i].second, want[i].second, 1e-4) << i;
+  }
+}
+
 TEST(IsoOffsets, CoordinateSystemRotation) {
   const auto p = parse_ok("G10 L2 P1 X10 R90\nG0 X5 Y0\n");
   EXPECT_NEAR(ends(p)[0][0], 10, 1e-12);
