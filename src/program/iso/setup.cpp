@@ -9,6 +9,8 @@ namespace softmc::program::iso::detail {
 std::optional<LineError> Exec::tool_length() {
   if (!b.tool_length) return std::nullopt;
   const int code = b.tool_length->value;
+  if (st.comp != Comp::Off)  // LinuxCNC convert_tool_length_offset
+    return error(b.tool_length->col, "cannot change the tool length offset with cutter radius compensation on (G40 first)");
   core::Vec t;
   if (code == 430) {
     int tool = st.current_tool;
@@ -71,6 +73,8 @@ std::optional<LineError> Exec::setup() {
           return error(p->col, "G10 coordinate system (P) must be 0 (the current one) … 9");
         const int n = p->value == 0 ? st.coord_system : whole(p->value);
         const bool current = n == st.coord_system;
+        if (current && st.comp != Comp::Off)  // LinuxCNC convert_setup
+          return error(col, "cannot change the active coordinate system with cutter radius compensation on (G40 first)");
         if (const auto& r = w('R')) {
           if (l->value == 20) return error(r->col, "R (rotation) only goes with G10 L2");
           write_param(rotation_param(n), r->value);
@@ -146,6 +150,8 @@ std::optional<LineError> Exec::setup() {
       return std::nullopt;
     }
     case 920: {
+      if (st.comp != Comp::Off)  // LinuxCNC convert_axis_offsets (G92.1 … G92.3 are allowed there)
+        return error(col, "G92 cannot change the axis offsets with cutter radius compensation on (G40 first)");
       if (!b.has_axes()) return error(col, "G92 needs axis words: the coordinates the current position gets");
       const core::Vec unshifted = to_program(st, st.position) + st.axis;  // program position without G92
       for (std::size_t a = 0; a < core::kMaxAxes; ++a) {

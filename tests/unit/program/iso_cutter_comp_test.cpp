@@ -367,3 +367,21 @@ TEST(IsoCutterComp, TheMoveAfterG40MustBeStraight) {
   // Compensation switched on and off without a move leaves arcs allowed, as in LinuxCNC.
   parse_ok("G21 G90 G17 F300\nG0 X0 Y0\nG41.1 D2\nG40\nG2 X10 Y0 I5 J0\n");
 }
+
+// LinuxCNC refuses offset changes that move the programmed path under compensation: rs274 -g says
+// "Cannot change axis offsets with cutter radius comp" for G92, "Cannot change the active coordinate
+// system with cutter radius compensation on" for G10 L2/L20 on the system in use, "Cannot change tool
+// offset with cutter radius compensation on" for G43/G43.1/G49; G92.1 and G10 on another system pass.
+TEST(IsoCutterComp, OffsetChangesAreRefusedWhileOn) {
+  const std::string on = "G21 G90 G17 F300\nG0 X-10 Y-10\nG41.1 D2 G1 X0 Y0\n";
+  const std::string off = "G1 X10\nG40\n";
+  EXPECT_EQ(one_error(on + "G92 X5\n" + off),
+            "t.ngc:4:1: error: G92 cannot change the axis offsets with cutter radius compensation on (G40 first)");
+  EXPECT_EQ(one_error(on + "G10 L2 P0 X5\n" + off),
+            "t.ngc:4:1: error: cannot change the active coordinate system with cutter radius compensation on (G40 first)");
+  EXPECT_EQ(one_error(on + "G10 L20 P1 X5\n" + off).rfind("t.ngc:4:1: error: cannot change the active coordinate system", 0), 0u);
+  EXPECT_EQ(one_error(on + "G43.1 Z1\n" + off),
+            "t.ngc:4:1: error: cannot change the tool length offset with cutter radius compensation on (G40 first)");
+  EXPECT_EQ(one_error(on + "G49\n" + off).rfind("t.ngc:4:1: error: cannot change the tool length offset", 0), 0u);
+  parse_ok(on + "G92.1\nG10 L2 P2 X5\n" + off);
+}
