@@ -380,8 +380,13 @@ std::optional<LineError> Exec::motion() {
     case Motion::ArcCw:
     case Motion::ArcCcw: return arc(col);
     case Motion::CubicSpline:
-    case Motion::QuadSpline: return spline(col);
-    case Motion::Nurbs: return nurbs_point(col);
+    case Motion::QuadSpline:
+    case Motion::Nurbs:
+      // LinuxCNC: "Cannot convert spline with cutter radius compensation". The compensation stage
+      // offsets lines and arcs only; a spline would pass through it uncompensated.
+      if (st.comp != Comp::Off)
+        return error(col, "splines (G5, G5.1, G5.2) cannot run with cutter radius compensation on (G40 first)");
+      return st.motion == Motion::Nurbs ? nurbs_point(col) : spline(col);
     default: return cycle(col);
   }
 }

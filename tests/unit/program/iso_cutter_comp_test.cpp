@@ -385,3 +385,14 @@ TEST(IsoCutterComp, OffsetChangesAreRefusedWhileOn) {
   EXPECT_EQ(one_error(on + "G49\n" + off).rfind("t.ngc:4:1: error: cannot change the tool length offset", 0), 0u);
   parse_ok(on + "G92.1\nG10 L2 P2 X5\n" + off);
 }
+
+// A spline under compensation went through the stage uncompensated, held back as if it were not a
+// move, and the next corner was worked out from before it. LinuxCNC refuses it (rs274 -g: "Cannot
+// convert spline with cutter radius compensation").
+TEST(IsoCutterComp, SplinesAreRefusedWhileOn) {
+  const std::string on = "G21 G90 G17 F300\nG0 X-10 Y-10\nG41.1 D2 G1 X0 Y0\n";
+  const std::string want = "error: splines (G5, G5.1, G5.2) cannot run with cutter radius compensation on (G40 first)";
+  EXPECT_EQ(one_error(on + "G5.1 X20 Y5 I5 J5\nG1 X30\nG40\n"), "t.ngc:4:1: " + want);
+  EXPECT_EQ(one_error(on + "G5 X20 Y5 I5 J5 P-5 Q5\nG1 X30\nG40\n"), "t.ngc:4:1: " + want);
+  EXPECT_EQ(parse_errors(on + "G5.2 X1 Y1 P1\nX2 Y2 P1\nX3 Y1 P1\nG5.3\nG40\n").at(0), "t.ngc:4:1: " + want);
+}
