@@ -16,15 +16,6 @@ using namespace softmc::program::iso::test;
 
 namespace {
 
-std::vector<core::Vec> ends(const Program& p) {
-  std::vector<core::Vec> out;
-  for (const auto& i : p.instructions) {
-    if (const auto* r = std::get_if<Rapid>(&i.op)) out.push_back(r->end);
-    if (const auto* l = std::get_if<Linear>(&i.op)) out.push_back(l->end);
-    if (const auto* a = std::get_if<Arc>(&i.op)) out.push_back(a->end);
-  }
-  return out;
-}
 
 template <class T>
 std::vector<T> all(const Program& p) {

@@ -17,16 +17,6 @@ namespace {
 
 constexpr double kRs274 = 1e-4;  // rs274 prints 4 decimals
 
-std::vector<core::Vec> ends(const Program& p) {
-  std::vector<core::Vec> out;
-  for (const auto& i : p.instructions) {
-    if (const auto* r = std::get_if<Rapid>(&i.op)) out.push_back(r->end);
-    if (const auto* l = std::get_if<Linear>(&i.op)) out.push_back(l->end);
-    if (const auto* a = std::get_if<Arc>(&i.op)) out.push_back(a->end);
-    if (const auto* b = op_if<Bezier>(i.op)) out.push_back(b->end);
-  }
-  return out;
-}
 
 // Every end point against rs274's (x, y, z) rows, scaled by `k` (25.4 for inch programs).
 void expect_ends(const Program& p, const std::vector<std::vector<double>>& want, double k = 1.0) {

@@ -49,6 +49,18 @@ inline std::string one_error(std::string_view text) {
   return e.empty() ? std::string() : e.front();
 }
 
+// The end point of every motion (rapids, lines, arcs, G5/G5.1 splines), in program order.
+inline std::vector<core::Vec> ends(const Program& p) {
+  std::vector<core::Vec> out;
+  for (const auto& i : p.instructions) {
+    if (const auto* r = std::get_if<Rapid>(&i.op)) out.push_back(r->end);
+    if (const auto* l = std::get_if<Linear>(&i.op)) out.push_back(l->end);
+    if (const auto* a = std::get_if<Arc>(&i.op)) out.push_back(a->end);
+    if (const auto* b = op_if<Bezier>(i.op)) out.push_back(b->end);
+  }
+  return out;
+}
+
 template <class T>
 const T& op_at(const Program& p, std::size_t i) {
   static const T kNone{};
