@@ -17,7 +17,6 @@ namespace {
 
 constexpr double kRs274 = 1e-4;  // rs274 prints 4 decimals
 
-
 // Every end point against rs274's (x, y, z) rows, scaled by `k` (25.4 for inch programs).
 void expect_ends(const Program& p, const std::vector<std::vector<double>>& want, double k = 1.0) {
   const auto got = ends(p);
