@@ -18,6 +18,7 @@ bool jerk_mode(const MachineLimits& lim) {
 
 namespace {
 constexpr double kEps_mm = 1e-9;
+constexpr double kSettle_mm = 1e-9;  // a hair short of a block's end at rest: settled, then snapped
 
 // A block without a jerk limit (Trapezoid profile, axes with j = 0) reaches its acceleration in one cycle.
 double jerk_of(const Block& b, double dt) { return std::isfinite(b.j_mm_s3) ? b.j_mm_s3 : b.a_mm_s2 / dt; }
@@ -79,10 +80,13 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   // fuzzer's stub moving X by 1e-5 of its length, X with a jerk limit and Y without: J 1.3e8 mm/s³,
   // J·dt³/8 = 16 µm, and a 8.3 µm stub taken in one step was 8.3× Y's acceleration).
   const auto rest_step = [dt](double j, double a) { return std::min(j * dt * dt * dt / 8, a * dt * dt / 2); };
-  // A hair short of the front block's end: noise against one cycle's jerk step (snapped at once),
-  // or within the band where the follower settles before the snap (below). Worked out only at rest.
+  // A hair short of the front block's end: noise against one cycle's jerk step (snapped at once,
+  // worked out only at rest), or up to kSettle_mm, where the follower settles before the snap (below).
   const auto noise = [&] { return 1e-6 * jerk_of(f, dt) * dt * dt * dt; };
-  const auto settle_band = [&] { return std::min(1e-9, rest_step(jerk_of(f, dt), f.a_mm_s2)); };
+  // The snap after three cycles at rest puts d, −2d, d in the third differences and d, −d in the
+  // second: within the block's J and A for d ≤ J·dt³/2 and A·dt². A longer hair (only near the jerk
+  // floor, where J·dt³/2 < kSettle_mm) is left to the position-mode stop, as any short move.
+  const auto settle_band = [&] { return std::min({kSettle_mm, jerk_of(f, dt) * dt * dt * dt / 2, f.a_mm_s2 * dt * dt}); };
   // At rest in that band, waiting for the snap onto the block's end.
   const bool settling = v_ == 0 && a_ == 0 && f.length - s_ > noise() && f.length - s_ <= settle_band();
   if (!at_cruise) walk_limits();
@@ -330,15 +334,18 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   // that came to rest past it, inside the next block, was pulled back onto the junction (a fuzzer's
   // 0.1 µm last line: Y 1.09× its jerk where the path went on from there); the pass below carries
   // such a step into the next block instead.
-  // A hair short of the end (up to 1e-9 mm) is snapped onto it at once only where that hair is
+  // A hair short of the end (up to kSettle_mm) is snapped onto it at once only where that hair is
   // noise against one cycle's jerk step (1e-6 of j·dt³); a longer one, after three cycles of rest
-  // (`settle`): a brake to rest landed 2.5e-10 mm short of a program's end, and the snap in the
+  // (`settling`): a brake to rest landed 2.5e-10 mm short of a program's end, and the snap in the
   // same cycle as the brake's last jerk phase added 2.5e-10/dt³ to it (a fuzzer's case: Y 1.0016×
   // its 10 000 mm/s³ at 0.25 ms). Snapping only the noise and letting the follower land the rest
-  // crept there for 0.4 s at 1e-9 mm/s, neither moving nor at rest.
+  // crept there for 0.4 s at 1e-9 mm/s, neither moving nor at rest. After the rest the snap's
+  // third differences are d, −2d, d alone (`settle_band`). Near the jerk floor a hair above the
+  // band is not snapped at all: up to 1e-9 mm was, in the brake's last phase (a review's case: Y at
+  // 1.285× its 400 mm/s³ at 0.1 ms).
   const bool resting = v_ <= 1e-9 && std::abs(a_) <= 1e-6 && left >= -1e-9;
   const double settle = resting ? settle_band() : 0.0;
-  if (resting && (left <= noise() || (left > settle && left <= 1e-9) || (left <= settle && rest_cycles_ >= 3) ||
+  if (resting && (left <= noise() || (left <= settle && rest_cycles_ >= 3) ||
                   (at_stop && !h && rest_cycles_ >= 3 && left <= rest_step(jerk_of(f, dt), f.a_mm_s2)))) {
     s_ = f.length;
     v_ = 0;

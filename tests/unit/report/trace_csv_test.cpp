@@ -43,7 +43,7 @@ TEST(TraceCsv, HeaderRowsAndRoundTrip) {
   for (std::size_t r : {std::size_t{0}, tr.rows.size() / 3, tr.rows.size() - 1}) {
     const auto f = split(lines[r + 1]);
     ASSERT_EQ(f.size(), 10u) << lines[r + 1];
-    EXPECT_EQ(f[9], std::to_string(10 + row_tag(tr, r))) << "row " << r;
+    EXPECT_EQ(std::stoul(f[9]), 10u + row_tag(tr, r)) << "row " << r;
     const auto& row = tr.rows[r];
     const double expect[] = {row.t_s,    row.cmd[0], row.act[0],
                              row.vel[0], row.cmd[1], row.act[1],
