@@ -86,8 +86,6 @@ LexedLine lex_line(std::string_view line);
 // '#' stays as it is.
 std::string format_message(std::string_view text, const Parameters& params);
 
-// #5599: DEBUG messages are shown while it is not 0 (LinuxCNC; 1 at start).
-inline constexpr int kDebugOutput = 5599;
 
 // Reads only the O-word header (name, keyword, column) of a line, without evaluating anything:
 // the control-flow index is built from it before the program runs.

@@ -6,7 +6,7 @@
 namespace softmc::program::iso {
 
 Parameters::Parameters() : numbered_(kMaxParameter + 1, 0.0), frames_(1) {
-  numbered_[5599] = 1.0;  // DEBUG output on (LinuxCNC's start value)
+  numbered_[kDebugOutput] = 1.0;  // DEBUG output on (LinuxCNC's start value)
 }
 
 std::optional<std::string> Parameters::read(long long n, double& out) const {
@@ -20,7 +20,7 @@ std::optional<std::string> Parameters::read(long long n, double& out) const {
 std::optional<std::string> Parameters::write(long long n, double v) {
   if (n < 1 || n > kMaxParameter) return fmt::format("parameter #{} does not exist (#1 … #{})", n, kMaxParameter);
   // LinuxCNC's read-only ones: the tool (#5400…#5413) and the current position (#5420…#5428).
-  if ((n >= kToolNumber && n <= 5413) || (n >= kCurrentPosition && n <= kCurrentPosition + 8))
+  if ((n >= kToolNumber && n <= kToolLast) || (n >= kCurrentPosition && n <= kCurrentPosition + 8))
     return fmt::format("parameter #{} is read-only", n);
   set(static_cast<int>(n), v);
   return std::nullopt;

@@ -30,6 +30,9 @@ inline constexpr int kToolNumber = 5400;
 inline constexpr int kToolOffset = 5401;          // 5401…5409
 inline constexpr int kToolDiameter = 5410;
 inline constexpr int kCurrentPosition = 5420;     // 5420…5428, program coordinates
+inline constexpr int kToolLast = 5413;            // the last of the loaded tool's read-only parameters
+// #5599: DEBUG messages are shown while it is not 0 (LinuxCNC; 1 at start).
+inline constexpr int kDebugOutput = 5599;
 
 constexpr int coord_param(int system, std::size_t axis) { return kCoordSystemBase + 20 * (system - 1) + static_cast<int>(axis); }
 constexpr int rotation_param(int system) { return kCoordSystemBase + 20 * (system - 1) + 9; }
