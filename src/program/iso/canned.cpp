@@ -119,12 +119,9 @@ std::optional<LineError> Exec::cycle(std::uint32_t col) {
     cc = cc_word;
     if (const auto& x = w(la)) aa = x->value * kk;
     if (const auto& y = w(lb)) bb = y->value * kk;
-    if (b.has_polar()) {
-      const double radius = pr ? pr->value * kk : std::hypot(bb, aa);
-      const double theta = pt ? polar_radians(pt->value) : std::atan2(bb, aa);
-      aa = radius * std::cos(theta);
-      bb = radius * std::sin(theta);
-    }
+    if (b.has_polar())
+      polar_point(aa, bb, pr ? std::optional<double>(pr->value * kk) : std::nullopt,
+                  pt ? std::optional<double>(polar_radians(pt->value)) : std::nullopt);
   } else {
     if (const auto& x = w(la)) aa_inc = x->value * kk;
     if (const auto& y = w(lb)) bb_inc = y->value * kk;

@@ -16,6 +16,9 @@ inline LineError error(std::uint32_t col, std::string message) { return LineErro
 
 // Polar coordinates (polar.cpp). An angle word in degrees to radians, as LinuxCNC's D2R.
 double polar_radians(double deg);
+// (x, y) moved to the radius r and the angle t (radians) about the origin, each kept from (x, y)
+// where it is not given.
+void polar_point(double& x, double& y, std::optional<double> r, std::optional<double> t);
 enum class PolarStep : std::uint8_t { Ok, RadiusAtOrigin, AngleAtOrigin };
 // G91 polar step about the origin (LinuxCNC find_ends, CYCLE_MACRO): the radius grows by dr along
 // the current angle, then the angle by dt_rad at that radius; either is undefined at the origin.

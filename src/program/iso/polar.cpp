@@ -26,20 +26,21 @@ const char* plane_code(Plane p) { return p == Plane::XY ? "G17" : p == Plane::XZ
 
 double polar_radians(double deg) { return deg * std::numbers::pi / 180.0; }  // LinuxCNC's D2R
 
+void polar_point(double& x, double& y, std::optional<double> r, std::optional<double> t) {
+  const double radius = r ? *r : std::hypot(y, x);
+  const double theta = t ? *t : std::atan2(y, x);
+  x = radius * std::cos(theta);
+  y = radius * std::sin(theta);
+}
+
 PolarStep polar_increment(double& x, double& y, std::optional<double> dr, std::optional<double> dt_rad) {
   if (dr) {
     if (x == 0 && y == 0) return PolarStep::RadiusAtOrigin;
-    const double theta = std::atan2(y, x);
-    const double radius = std::hypot(y, x) + *dr;
-    x = radius * std::cos(theta);
-    y = radius * std::sin(theta);
+    polar_point(x, y, std::hypot(y, x) + *dr, std::nullopt);
   }
   if (dt_rad) {
     if (x == 0 && y == 0) return PolarStep::AngleAtOrigin;
-    const double theta = std::atan2(y, x) + *dt_rad;
-    const double radius = std::hypot(y, x);
-    x = radius * std::cos(theta);
-    y = radius * std::sin(theta);
+    polar_point(x, y, std::nullopt, std::atan2(y, x) + *dt_rad);
   }
   return PolarStep::Ok;
 }
@@ -81,20 +82,10 @@ std::optional<LineError> Exec::polar_end(double& x, double& y) {
   const auto& r = b.polar_radius;
   const auto& a = b.polar_angle;
   if (st.distance == Distance::Absolute) {
-    if (r && a) {
-      x = r->value * k() * std::cos(polar_radians(a->value));
-      y = r->value * k() * std::sin(polar_radians(a->value));
-    } else if (r) {
-      if (x == 0 && y == 0)
-        return error(r->col, "polar radius (@) without an angle (^) at the origin: the current angle is undefined there");
-      const double theta = std::atan2(y, x);
-      x = r->value * k() * std::cos(theta);
-      y = r->value * k() * std::sin(theta);
-    } else {
-      const double radius = std::hypot(y, x);
-      x = radius * std::cos(polar_radians(a->value));
-      y = radius * std::sin(polar_radians(a->value));
-    }
+    if (r && !a && x == 0 && y == 0)
+      return error(r->col, "polar radius (@) without an angle (^) at the origin: the current angle is undefined there");
+    polar_point(x, y, r ? std::optional<double>(r->value * k()) : std::nullopt,
+                a ? std::optional<double>(polar_radians(a->value)) : std::nullopt);
     return std::nullopt;
   }
   const std::optional<double> dr = r ? std::optional<double>(r->value * k()) : std::nullopt;
