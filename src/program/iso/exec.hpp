@@ -110,6 +110,12 @@ struct Exec {
   bool offsets_emitted = false;
 
   // Feed of a feed move from st.position to `end` of the given path length (mm; 0 = rotary only).
+  // A G94 feed move without a usable feed: missing, or 0 (not after an earlier error).
+  std::optional<LineError> feed_missing(std::uint32_t col) const {
+    if (st.feed_uncertain || st.feed_usable()) return std::nullopt;
+    return error(col, st.feed_mm_s ? "feed rate is 0: a feed move needs an F greater than 0"
+                                   : "feed rate missing: program an F word before the first feed move");
+  }
   std::optional<LineError> feed_for(std::uint32_t col, double length_mm, double rotary_deg, double& feed);
 
   std::optional<LineError> run();

@@ -95,15 +95,11 @@ std::optional<LineError> Exec::feed_for(std::uint32_t col, double length_mm, dou
     const double minutes = st.feed_word > 0 ? 1.0 / st.feed_word : 1.0;
     const double path = length_mm > 0 ? length_mm : rotary_deg;
     feed = path / (minutes * 60.0);
-    if (!(feed > 0)) feed = st.feed_mm_s && *st.feed_mm_s > 0 ? *st.feed_mm_s : 1.0;  // a move of length 0: any positive speed
+    if (!(feed > 0)) feed = st.feed_usable() ? *st.feed_mm_s : 1.0;  // a move of length 0: any positive speed
     return std::nullopt;
   }
-  if (!st.feed_mm_s && !st.feed_uncertain)
-    return error(col, "feed rate missing: program an F word before the first feed move");
-  if (st.feed_mm_s && !(*st.feed_mm_s > 0) && !st.feed_uncertain)
-    return error(col, "feed rate is 0: a feed move needs an F greater than 0");
-  feed = st.feed_mm_s.value_or(1.0);
-  if (!(feed > 0)) feed = 1.0;  // only after an earlier error (feed_uncertain): any positive speed
+  if (auto e = feed_missing(col)) return e;
+  feed = st.feed_usable() ? *st.feed_mm_s : 1.0;  // else only after an earlier error (feed_uncertain): any speed
   // A move of rotary axes only takes F in degrees per minute, whatever G20/G21 (LinuxCNC).
   if (length_mm == 0 && rotary_deg > 0 && st.units == Units::Inch) feed /= kMmPerInch;
   return std::nullopt;
@@ -371,9 +367,8 @@ std::optional<LineError> Exec::motion() {
   if (st.comp != Comp::Off) st.comp_moved = true;
   const std::uint32_t col = b.motion ? b.motion->col : b.first_position_col();
   // The feed is checked before the geometry: it is the first thing missing in a CAM-less program.
-  if (is_feed_motion(st.motion) && st.motion != Motion::Nurbs && st.feed_mode == FeedMode::PerMinute && !st.feed_mm_s &&
-      !st.feed_uncertain)
-    return error(col, "feed rate missing: program an F word before the first feed move");
+  if (is_feed_motion(st.motion) && st.motion != Motion::Nurbs && st.feed_mode == FeedMode::PerMinute)
+    if (auto e = feed_missing(col)) return e;
   switch (st.motion) {
     case Motion::Rapid: return straight(true, col);
     case Motion::Linear: return straight(false, col);

@@ -23,6 +23,8 @@ struct ModalState {
   FeedMode feed_mode = FeedMode::PerMinute;
   Retract retract = Retract::RPlane;
   std::optional<double> feed_mm_s;  // F converted when programmed; keeps its speed across G20/G21
+  // A feed a G94 feed move can use: programmed and above 0 (LinuxCNC takes F0, and refuses the move).
+  bool feed_usable() const { return feed_mm_s && *feed_mm_s > 0; }
   double feed_word = 0;             // F as written (G93: inverse minutes)
   bool feed_in_block = false;       // G93: this block had its own F
   PathMode path;                    // G61 at start

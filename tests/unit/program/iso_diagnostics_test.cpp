@@ -26,6 +26,8 @@ TEST(IsoDiagnostics, FeedMustBePositive) {
   // alone and "G0 X1 F0" run. A negative F is refused at the word ("Negative f word used").
   EXPECT_EQ(one_error("G1 X1 F0\n"), "t.ngc:1:1: error: feed rate is 0: a feed move needs an F greater than 0");
   EXPECT_EQ(one_error("F0\nG2 X2 I1\n"), "t.ngc:2:1: error: feed rate is 0: a feed move needs an F greater than 0");
+  // Before the geometry, as a missing F (an arc without its centre would be the second error).
+  EXPECT_EQ(parse_errors("F0\nG2 X2\n").front(), "t.ngc:2:1: error: feed rate is 0: a feed move needs an F greater than 0");
   EXPECT_EQ(one_error("F0\nG0 Z5\nG81 X1 Z-1 R1\n"), "t.ngc:3:1: error: feed rate is 0: a feed move needs an F greater than 0");
   EXPECT_EQ(one_error("F100\nG1 X1\nF0\nX2\n"), "t.ngc:4:1: error: feed rate is 0: a feed move needs an F greater than 0");
   EXPECT_EQ(one_error("G1 X1 F-60\n"), "t.ngc:1:7: error: feed rate (F) must be 0 or more");
