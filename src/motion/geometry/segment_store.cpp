@@ -137,8 +137,10 @@ bool same(const Vec& a, const Vec& b) {
 }
 template <class T>
   requires(std::is_integral_v<T> || std::is_enum_v<T>)
-bool same(T a, T b) {
-  return a == b;
+bool same(const T& a, const T& b) {
+  // By their bytes, as the doubles: a bool or enum holding a value outside its type (a flipped byte)
+  // is a difference, not undefined behaviour (UBSan on SegmentStore.SameBitsSeesEveryByteOfEveryField).
+  return std::memcmp(&a, &b, sizeof(T)) == 0;
 }
 template <class T, std::size_t N>
 bool same(const std::array<T, N>& a, const std::array<T, N>& b) {

@@ -40,15 +40,15 @@ TEST(Spc200, S2_MoveFormsAllOperands) {
   EXPECT_EQ(m.speed_pct[1], 70);
   EXPECT_EQ(m.speed_pct[2], 80);
 
-  const auto& r = only<SpcMove>(ok("N5 G00 G90 X300.5 Y@0"));
+  const auto r = only<SpcMove>(ok("N5 G00 G90 X300.5 Y@0"));
   EXPECT_EQ(r.profile, SpcProfile::Rapid);
   EXPECT_EQ(r.coord, SpcCoord::Absolute);
   EXPECT_EQ(r.target[0].centi, 30050);
-  const auto& g1 = only<SpcMove>(ok("n001 g01 x@10 fx50 ; lower case and a comment"));
+  const auto g1 = only<SpcMove>(ok("n001 g01 x@10 fx50 ; lower case and a comment"));
   EXPECT_EQ(g1.profile, SpcProfile::Trapezoid);
   EXPECT_EQ(g1.coord, SpcCoord::Modal);
   EXPECT_TRUE(g1.target[0].is_reg);
-  const auto& packed = only<SpcMove>(ok("N000G01X10FX0"));
+  const auto packed = only<SpcMove>(ok("N000G01X10FX0"));
   EXPECT_EQ(packed.target[0].centi, 1000);
 }
 
