@@ -192,9 +192,7 @@ TEST(IsoOffsets, ToolParametersAreTheLoadedToolsTableEntry) {
   // diameter, from M6/M61 on and whatever G43/G49 says. rs274 -g with this table (numbers as
   // written): " a 1.000000 1.000000 0.062500" after T1 M6 before any G43, " g 2.000000 0.500000
   // 0.250000" after T2 M6 G43 and G49.
-  core::Diagnostics d;
-  const auto tt = iso::parse_tool_table("T1 P1 Z1.0 D0.0625\nT2 P2 Z0.5 D0.25\n", "tools.tbl", d);
-  ASSERT_TRUE(d.empty());
+  const auto tt = tools_ok("T1 P1 Z1.0 D0.0625\nT2 P2 Z0.5 D0.25\n");
   iso::ParseOptions opt;
   opt.tools = &tt;
   const auto p = parse_ok("(DEBUG, z #5400 #5403 #5410)\nT1 M6\n(DEBUG, a #5400 #5403 #5410)\nG43\n(DEBUG, b #5403)\n"
@@ -209,9 +207,7 @@ TEST(IsoOffsets, ToolParametersAreTheLoadedToolsTableEntry) {
 }
 
 TEST(IsoOffsets, ToolLengthFromTheToolTable) {
-  core::Diagnostics d;
-  const auto tt = iso::parse_tool_table("T1 P1 D6 Z25 ; end mill\nT2 D1.5 Z-2\n", "tools.tbl", d);
-  ASSERT_TRUE(d.empty());
+  const auto tt = tools_ok("T1 P1 D6 Z25 ; end mill\nT2 D1.5 Z-2\n");
   iso::ParseOptions opt;
   opt.tools = &tt;
   const auto r = iso::parse("G43 H1\nG0 Z0\nT2 M6\nG43\nG0 Z0\nG43.1 Z4\nG0 Z0\nG49\nG0 Z0\nG43 H7\n", "t.ngc", opt);
@@ -498,8 +494,7 @@ TEST(IsoBlocks, ModalGroupConflictsNameBothCodes) {
 }
 
 TEST(IsoCutterComp, G41RoutesMovesThroughTheCompensationStage) {
-  core::Diagnostics d;
-  const auto tt = iso::parse_tool_table("T1 D2\n", "t.tbl", d);
+  const auto tt = tools_ok("T1 D2\n");
   iso::ParseOptions opt;
   opt.tools = &tt;
   const auto p = parse_ok("G0 X-10 Y0\nG41 D1 G1 X0 Y0 F60\nX20\nY20\nG40 G0 X30 Y30\n", opt);

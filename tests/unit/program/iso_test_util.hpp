@@ -49,6 +49,14 @@ inline std::string one_error(std::string_view text) {
   return e.empty() ? std::string() : e.front();
 }
 
+// A tool table from its text, which must read without a diagnostic (ParseOptions::tools points at it).
+inline ToolTable tools_ok(std::string_view text) {
+  core::Diagnostics d;
+  ToolTable t = parse_tool_table(text, "tools.tbl", d);
+  EXPECT_TRUE(d.empty()) << (d.empty() ? "" : d.front().format());
+  return t;
+}
+
 // The end point of every motion (rapids, lines, arcs, G5/G5.1 splines), in program order.
 inline std::vector<core::Vec> ends(const Program& p) {
   std::vector<core::Vec> out;
