@@ -146,9 +146,10 @@ std::optional<LineError> apply_g(const Word& w, Block& b, GroupSeen& seen) {
   }
   if (group == Group::Motion) {
     // LinuxCNC read_g: "This allows G80 on the same line as one other g_code with the same mode. If
-    // this happens, the G80 is simply ignored" (CAM safety lines such as G0 G17 G40 G49 G80 G90).
+    // this happens, the G80 is simply ignored" (CAM safety lines such as G0 G17 G40 G49 G80 G90); a
+    // second G80 is ignored the same way.
     auto& slot = seen[static_cast<std::size_t>(Group::Motion)];
-    if (code10 == 800 && slot >= 0 && slot != 800) {
+    if (code10 == 800 && slot >= 0) {
       b.motion = motion_before;
       return std::nullopt;
     }

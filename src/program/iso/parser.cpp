@@ -233,8 +233,12 @@ class ProgramReader {
     }
     lex(line);
     if (lexed_.kind == LineKind::Percent) {
-      // A '%' before any block opens the program; any later one closes it: the rest is not read.
+      // A '%' before any block opens the program; a later one closes it (the rest is not read) if
+      // one opened it, and is an error if none did (rs274: "Bad character '%' used"); after M2/M30 it
+      // is the tape's end as usual.
       if (f == 0 && frames_.size() == 1) {
+        if (seen_block_ && !percent_open_ && !state_.ended)
+          return fail(f, pc, line, LineError{1, "'%' closes the program, but it did not open with a '%' line"});
         if (seen_block_ || percent_open_) done_ = true;
         percent_open_ = true;
       }

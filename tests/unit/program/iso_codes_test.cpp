@@ -244,6 +244,9 @@ TEST(IsoCannedCycles, G80WithAnotherMotionCodeInTheBlockIsIgnored) {
   EXPECT_EQ(ends(p), want);
   EXPECT_TRUE(std::holds_alternative<Rapid>(p.instructions[1].op));
   EXPECT_TRUE(std::holds_alternative<Linear>(p.instructions[2].op));
+  // A repeated G80 is ignored too (rs274 -g: the feed to X5 below).
+  const auto g = parse_ok("G80 G80 G1 X5 F60\nG80 G80\n");
+  EXPECT_EQ(ends(g), std::vector<core::Vec>{xyz(5, 0, 0)});
   // Two motion codes besides G80 are still two.
   EXPECT_EQ(one_error("G80 G0 G1 X1 F60\n"), "t.ngc:1:8: error: two motion codes in one block: G0 and G1");
 }

@@ -241,6 +241,12 @@ TEST(IsoParser, PercentDelimitsTheProgram) {
   const auto p = parse_ok("%\nG0 X1\n%\nthis is not read: G0 X2 #@!\n");
   ASSERT_EQ(p.instructions.size(), 1u);
   EXPECT_EQ(op_at<Rapid>(p, 0).end, xyz(1, 0));
+  // A '%' after blocks of a program that did not open with one is an error, as rs274's "Bad character
+  // '%' used": the moves after it are not silently dropped.
+  EXPECT_EQ(one_error("G0 X1\n%\nG0 X2\n"),
+            "t.ngc:2:1: error: '%' closes the program, but it did not open with a '%' line");
+  // Comments and blank lines before the opening '%' are no blocks.
+  EXPECT_EQ(parse_ok("(header)\n\n%\nG0 X1\n%\nG0 X2\n").instructions.size(), 1u);
 }
 
 TEST(IsoParser, TextAfterProgramEndIsIgnoredWithAWarning) {
