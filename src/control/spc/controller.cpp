@@ -1,6 +1,8 @@
 // The SPC200 controller cycle: filter the inputs, run the mode's state machines, run the tasks, publish.
 #include "control/spc/controller.hpp"
 
+#include <utility>
+
 namespace softmc::control::spc {
 
 namespace {
@@ -102,6 +104,16 @@ void Controller::collect_task_errors() {
   }
 }
 
+// Steps 3 and 4 of a cycle in either mode: both tasks and the axes, then the tasks' new errors.
+// True when a fault is new this cycle (a task's error or one latched earlier in the cycle).
+bool Controller::run_tasks(double dt_s) {
+  task_a_.update(dt_s, image_);
+  task_b_.update(dt_s, image_);
+  axes_.step();
+  collect_task_errors();
+  return std::exchange(new_fault_, false);
+}
+
 bool Controller::self_test(double dt_s) {
   // S-8/S-9: the self-test runs with ENABLE=1, STOP=1, START/RESET=0 and starts over if they change.
   const auto& in = image_.inputs;
@@ -167,17 +179,8 @@ void Controller::start_stop_cycle(double dt_s) {
     start_stop_event(E::Error);
   }
 
-  // 3 tasks (M00 sync reads SYNC_IA/IB and writes SYNC_OA/OB through the image, S-7)
-  task_a_.update(dt_s, image_);
-  task_b_.update(dt_s, image_);
-  axes_.step();
-
-  // 4 mode: results
-  collect_task_errors();
-  if (new_fault_) {
-    new_fault_ = false;
-    start_stop_event(E::Error);
-  }
+  // 3 tasks (M00 sync reads SYNC_IA/IB and writes SYNC_OA/OB through the image, S-7), 4 mode: results
+  if (run_tasks(dt_s)) start_stop_event(E::Error);
   if (ss_ == StartStopState::Running) {
     bool any = false;
     for (int i = 0; i < kTasks; ++i) any = any || (assigned(i) && task_at(i).status().running);
@@ -271,17 +274,8 @@ void Controller::record_cycle(double dt_s) {
     if (fell(clk)) record_task_event(i, RecordTaskEvent::ClkFell);
   }
 
-  // 3 tasks
-  task_a_.update(dt_s, image_);
-  task_b_.update(dt_s, image_);
-  axes_.step();
-
-  // 4 mode: results
-  collect_task_errors();
-  if (new_fault_) {
-    new_fault_ = false;
-    record_system_event(E::MotionFault);
-  }
+  // 3 tasks, 4 mode: results
+  if (run_tasks(dt_s)) record_system_event(E::MotionFault);
   for (int i = 0; i < kTasks; ++i) {
     const auto s = rt_[static_cast<std::size_t>(i)];
     if ((s == RecordTaskState::Accepted || s == RecordTaskState::Running) && task_at(i).status().motion_done)

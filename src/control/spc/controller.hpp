@@ -90,6 +90,7 @@ class Controller {
   void latch_error(const char* message, int task = -1, int program = -1, int line = -1);
   void clear_errors();
   void collect_task_errors();
+  bool run_tasks(double dt_s);
 
   void start_stop_cycle(double dt_s);
   void start_stop_event(StartStopEvent e);

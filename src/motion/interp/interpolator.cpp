@@ -100,6 +100,21 @@ void Interpolator::replan(const Block& b, const Inputs& in) {
 }
 
 // rt-safe
+// rt-safe. The stop (P-5) is done: the window is dropped and the stop reported.
+void Interpolator::finish_stop() {
+  queue_.clear();
+  stop_ = StopKind::None;
+  stopped_ = true;
+}
+
+// rt-safe. At rest at the end of what there is to run (the window empty, or waiting for a block the
+// planner may still change): a stop asked for is done there.
+const Setpoint& Interpolator::rest_at_window_end() {
+  if (stop_ != StopKind::None) finish_stop();
+  rest_at_end();
+  return sp_;
+}
+
 void Interpolator::rest_at_end() {
   sp_.vel = Vec{};
   sp_.acc = Vec{};
@@ -122,15 +137,8 @@ const Setpoint& Interpolator::step(double dt) {
   // or the flush, as before an empty window.
   const bool waiting = !ring.empty() && queue_.visible() == 0 && std::isfinite(ring.front().j_mm_s3) &&
                        !started_ && s_ == 0 && v_ == 0 && a_ == 0;
-  if (ring.empty() || waiting) {
-    if (stop_ != StopKind::None) {  // stopped before anything was committed: drop the pending block
-      queue_.clear();
-      stop_ = StopKind::None;
-      stopped_ = true;
-    }
-    rest_at_end();
-    return sp_;
-  }
+  // (Stopped before anything was committed: the pending block is dropped.)
+  if (ring.empty() || waiting) return rest_at_window_end();
   if (std::isfinite(ring.front().j_mm_s3) && !started_) return step_jerk(dt);
   return step_trapezoid(dt);
 }
@@ -162,9 +170,7 @@ const Setpoint& Interpolator::step_trapezoid(double dt) {
       sp_.tag = b.tag;
       sp_.tag_last = b.tag_last;
       if (stop_ != StopKind::None && st.v <= 0) {  // P-5: at rest on the path, the stop is done
-        queue_.clear();
-        stop_ = StopKind::None;
-        stopped_ = true;
+        finish_stop();
         rest_at_end();
       }
       return sp_;
@@ -189,15 +195,7 @@ const Setpoint& Interpolator::step_trapezoid(double dt) {
       }
       return step_jerk(left);
     }
-    if (ring.empty()) {  // the tail ends at rest: exactly on the last programmed point
-      if (stop_ != StopKind::None) {
-        queue_.clear();
-        stop_ = StopKind::None;
-        stopped_ = true;
-      }
-      rest_at_end();
-      return sp_;
-    }
+    if (ring.empty()) return rest_at_window_end();  // the tail ends at rest: exactly on the last programmed point
   }
   // Budget spent: the rest of this cycle's time is dropped (the path runs slower, never faster).
   const Block& b = ring.front();

@@ -434,15 +434,7 @@ const Setpoint& Interpolator::step_jerk(double dt) {
       break;
     }
   }
-  if (ring.empty()) {  // the tail ends at rest: exactly on the last programmed point
-    if (stop_ != StopKind::None) {
-      queue_.clear();
-      stop_ = StopKind::None;
-      stopped_ = true;
-    }
-    rest_at_end();
-    return sp_;
-  }
+  if (ring.empty()) return rest_at_window_end();  // the tail ends at rest: exactly on the last programmed point
   const Block& b = ring.front();
   const double s = std::min(s_, b.length);
   const CurveFrame fr = b.frame(s);
@@ -458,9 +450,7 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   sp_.tag = b.tag;
   sp_.tag_last = b.tag_last;
   if (stop_ != StopKind::None && v_ <= 0 && a_ == 0) {  // P-5: at rest on the path, the stop is done
-    queue_.clear();
-    stop_ = StopKind::None;
-    stopped_ = true;
+    finish_stop();
     rest_at_end();
   }
   return sp_;

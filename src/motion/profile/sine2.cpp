@@ -5,6 +5,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "motion/profile/peak_speed.hpp"
+
 namespace softmc::motion {
 
 namespace {
@@ -44,23 +46,13 @@ Sine2Ramp plan_sine2_ramp(double v_from, double v_to, double a_max, double j_max
 }
 
 std::optional<Sine2> plan_sin2(double length, double v0, double v1, double v_max, double a_max, double j_max) {
-  if (!std::isfinite(length) || !std::isfinite(v0) || !std::isfinite(v1) || !std::isfinite(a_max)) return std::nullopt;
-  if (!(length >= 0) || !(v_max > 0) || !(a_max > 0) || v0 < 0 || v1 < 0 || std::isnan(j_max) || j_max < 0)
-    return std::nullopt;
-  if (std::isinf(j_max)) j_max = 0;
-  const double tol = 1e-9 * length + 1e-12;
-
-  double lo = std::max(v0, v1);
-  if (ramps_length(v0, lo, v1, a_max, j_max) > length + tol) return std::nullopt;
-  double hi = std::max(lo, std::isinf(v_max) ? lo : v_max);
-  double vp = hi;
-  if (ramps_length(v0, hi, v1, a_max, j_max) > length) {
-    for (int i = 0; i < 80 && hi - lo > 1e-15 * hi; ++i) {
-      const double mid = 0.5 * (lo + hi);
-      (ramps_length(v0, mid, v1, a_max, j_max) <= length ? lo : hi) = mid;
-    }
-    vp = lo;
-  }
+  const auto j = profile_detail::move_jerk(length, v0, v1, v_max, a_max, j_max);
+  if (!j) return std::nullopt;
+  j_max = *j;
+  const auto peak = profile_detail::peak_speed(
+      length, v0, v1, v_max, [&](double vp) { return ramps_length(v0, vp, v1, a_max, j_max); });
+  if (!peak) return std::nullopt;
+  const double vp = *peak;
   Sine2 p;
   p.length = length;
   p.v0 = v0;

@@ -7,23 +7,18 @@
 // before anything has changed, and the general path reads the line as it always did.
 #include "program/iso/fast_block.hpp"
 
-#include <bit>
 #include <cmath>
 
 #include "program/iso/arc.hpp"
 #include "program/iso/expression.hpp"
+#include "program/iso/interpreter.hpp"
 
 namespace softmc::program::iso {
 namespace {
 
 bool plain_state(const ModalState& st) {
   if (st.ended || st.comp != Comp::Off || st.feed_mode != FeedMode::PerMinute || st.arc_not_allowed) return false;
-  // No offsets at all, bit for bit (as interpreter.cpp's no_offsets): machine = program + 0.
-  std::uint64_t bits = std::bit_cast<std::uint64_t>(st.rotation_deg);
-  for (std::size_t a = 0; a < core::kMaxAxes; ++a)
-    bits |= std::bit_cast<std::uint64_t>(st.work[a]) | std::bit_cast<std::uint64_t>(st.axis[a]) |
-            std::bit_cast<std::uint64_t>(st.tool[a]);
-  return bits == 0;
+  return no_offsets(st);  // machine = program + 0
 }
 
 }  // namespace

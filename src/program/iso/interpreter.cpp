@@ -44,8 +44,8 @@ const char* word_users(char letter) {
   }
 }
 
-// No offset at all (bit for bit, so that a -0 offset takes the general path): the common case
-// of a CAM program, where the conversions below are (almost) the identity.
+}  // namespace
+
 bool no_offsets(const ModalState& st) {
   std::uint64_t bits = std::bit_cast<std::uint64_t>(st.rotation_deg);
   for (std::size_t a = 0; a < core::kMaxAxes; ++a)
@@ -53,8 +53,6 @@ bool no_offsets(const ModalState& st) {
             std::bit_cast<std::uint64_t>(st.tool[a]);
   return bits == 0;
 }
-
-}  // namespace
 
 core::Vec to_machine(const ModalState& st, const core::Vec& program) {
   if (no_offsets(st)) {

@@ -63,6 +63,9 @@ std::optional<LineError> execute(const Block& b, ModalState& state, const Parame
 // Turns (x, y) by `deg` degrees counter-clockwise (the G10 L2 R rotation of a coordinate system).
 void rotate_xy(core::Vec& v, double deg);
 core::Vec to_machine(const ModalState& st, const core::Vec& program);
+// No offset at all (bit for bit, so that a -0 offset takes the general path): the common case of a
+// CAM program, where to_machine and to_program are the identity.
+bool no_offsets(const ModalState& st);
 core::Vec to_program(const ModalState& st, const core::Vec& machine);
 
 // The OffsetsChanged op describing the state's offsets.

@@ -95,9 +95,10 @@ FolderFiles scan_folder(const std::string& dir) {
   return out;
 }
 
-core::Diagnostics ProgramStore::load_folder(const std::string& dir, const ParseOptions& opt) {
+void read_folder(const std::string& dir, core::Diagnostics& out,
+                 const std::function<void(int n, const std::string& path, const std::string& text)>& fn) {
   auto files = scan_folder(dir);
-  core::Diagnostics out = std::move(files.diagnostics);
+  out.insert(out.end(), files.diagnostics.begin(), files.diagnostics.end());
   for (int n = 0; n < kPrograms; ++n) {
     const auto& f = files.path[static_cast<std::size_t>(n)];
     if (f.empty()) continue;
@@ -106,8 +107,13 @@ core::Diagnostics ProgramStore::load_folder(const std::string& dir, const ParseO
       out.push_back({f, 0, 0, core::Severity::Error, "cannot read the file"});
       continue;
     }
-    add(n, *text, f, opt, out);
+    fn(n, f, *text);
   }
+}
+
+core::Diagnostics ProgramStore::load_folder(const std::string& dir, const ParseOptions& opt) {
+  core::Diagnostics out;
+  read_folder(dir, out, [&](int n, const std::string& f, const std::string& text) { add(n, text, f, opt, out); });
   auto v = validate();
   out.insert(out.end(), v.begin(), v.end());
   return out;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -47,5 +48,10 @@ FolderFiles scan_folder(const std::string& dir);
 
 // Reads a whole file as bytes; nothing when it cannot be read.
 std::optional<std::string> read_text_file(const std::string& path);
+
+// Each program file of a store folder (scan_folder), in number order, read whole: fn(n, path, text).
+// The folder's naming errors and a file that cannot be read ("cannot read the file") go to `out`.
+void read_folder(const std::string& dir, core::Diagnostics& out,
+                 const std::function<void(int n, const std::string& path, const std::string& text)>& fn);
 
 }  // namespace softmc::program::spc

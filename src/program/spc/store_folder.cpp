@@ -116,23 +116,13 @@ std::vector<ProgramInfo> StoreFolder::list(core::Diagnostics& out) const {
     out.push_back(error("not a program store folder"));
     return v;
   }
-  auto files = scan_folder(dir_);
-  out.insert(out.end(), files.diagnostics.begin(), files.diagnostics.end());
-  for (int n = 0; n < kPrograms; ++n) {
-    const auto& f = files.path[static_cast<std::size_t>(n)];
-    if (f.empty()) continue;
-    const auto text = read_text_file(f);
-    if (!text) {
-      out.push_back({f, 0, 0, core::Severity::Error, "cannot read the file"});
-      continue;
-    }
+  read_folder(dir_, out, [&](int n, const std::string& f, const std::string& text) {
     ParseOptions o = opt_;
     o.number = n;
-    auto r = parse(*text, f, o);
+    auto r = parse(text, f, o);
     out.insert(out.end(), r.diagnostics.begin(), r.diagnostics.end());
-    if (!r.program) continue;
-    v.push_back({n, r.program->size(), program_title(*text), f});
-  }
+    if (r.program) v.push_back({n, r.program->size(), program_title(text), f});
+  });
   return v;
 }
 
