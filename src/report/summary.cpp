@@ -42,6 +42,14 @@ nlohmann::ordered_json where_json(const Summary& s, const Where& w) {
 
 }  // namespace
 
+std::vector<core::SourceLoc> source_locations(const program::Program* prog) {
+  std::vector<core::SourceLoc> loc;
+  if (!prog) return loc;
+  loc.reserve(prog->instructions.size());
+  for (const auto& ins : prog->instructions) loc.push_back(ins.loc);
+  return loc;
+}
+
 SummaryBuilder::SummaryBuilder(const program::Program& prog, const machine::MachineConfig& cfg, double period_s,
                                core::AxisMask axes)
     : path_(programmed_path(prog)) {
@@ -50,8 +58,7 @@ SummaryBuilder::SummaryBuilder(const program::Program& prog, const machine::Mach
   s_.period_s = period_s;
   s_.axes = axes;
   s_.files = prog.files;
-  loc_.reserve(prog.instructions.size());
-  for (const auto& ins : prog.instructions) loc_.push_back(ins.loc);
+  loc_ = source_locations(&prog);
   // Lengths are the programmed ones: what the part needs, not what the planner made of it.
   for (const auto& m : path_.moves) {
     if (m.kind == MoveKind::Rapid) {

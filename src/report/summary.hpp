@@ -52,6 +52,10 @@ struct Summary {
 
 // Computes every figure from the program (the programmed geometry) and the trace, row by row as
 // the simulation makes them: a run of hours need not keep its trace (230 B a cycle) in memory.
+// Each instruction's source location, by instruction index (the tag of a trace row): kept by the
+// summary and the trace writer so that neither needs the program to outlive it.
+std::vector<core::SourceLoc> source_locations(const program::Program* prog);
+
 class SummaryBuilder {
  public:
   SummaryBuilder(const program::Program& prog, const machine::MachineConfig& cfg, double period_s, core::AxisMask axes);
@@ -87,7 +91,7 @@ class TraceCsvWriter {
   std::FILE* f_ = nullptr;
   std::array<std::size_t, core::kMaxAxes> axes_{};
   std::size_t n_axes_ = 0;
-  std::vector<std::uint32_t> lines_;  // instruction → source line
+  std::vector<core::SourceLoc> loc_;  // instruction → source location
   fmt::memory_buffer buf_;
 };
 

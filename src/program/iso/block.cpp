@@ -210,6 +210,15 @@ std::uint32_t Block::first_axis_col() const {
   return col;
 }
 
+int Block::axis_words_code() const {
+  if (tool_length && tool_length->value == 431) return 431;
+  if (non_modal) switch (non_modal->value) {
+      case 100: case 280: case 300: case 920: return non_modal->value;
+      default: break;
+    }
+  return 0;
+}
+
 std::uint32_t Block::first_polar_col() const {
   if (polar_radius && polar_angle) return std::min(polar_radius->col, polar_angle->col);
   return polar_radius ? polar_radius->col : polar_angle ? polar_angle->col : 0;

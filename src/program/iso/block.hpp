@@ -68,6 +68,9 @@ struct Block {
   // Words that give an end point: axis words or polar coordinates.
   bool has_position() const { return has_axes() || has_polar(); }
   std::uint32_t first_position_col() const;  // 0 when there is none
+  // The code that takes the block's axis words for itself rather than for a move (G10, G28, G30,
+  // G92, G43.1; ten times its number), or 0.
+  int axis_words_code() const;
   const MCode* m_code(int number) const;
 };
 

@@ -4,7 +4,6 @@
 #include <charconv>
 #include <cmath>
 #include <limits>
-#include <numbers>
 
 #include <fmt/format.h>
 
@@ -30,8 +29,6 @@ std::string_view alpha_run(std::string_view s, std::size_t i, char (&buf)[8]) {
   }
   return {buf, n};
 }
-
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 enum class Op : std::uint8_t { None, Pow, Mul, Div, Mod, Add, Sub, Eq, Ne, Gt, Ge, Lt, Le, And, Or, Xor };
 

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -21,6 +22,9 @@ namespace softmc::program::iso {
 
 inline constexpr int kMaxExpressionDepth = 64;  // nested brackets and functions
 inline constexpr double kEqualTolerance = 0.0001;  // LinuxCNC TOLERANCE_EQUAL for EQ and NE
+// Radians in a degree: the angles of sin, cos, tan, asin, acos, atan and of G10 L2 R rotations.
+// (Polar coordinates convert as LinuxCNC's D2R does, deg·π/180: polar_radians.)
+inline constexpr double kDeg = std::numbers::pi / 180.0;
 
 // A parameter reference: #n or #<name> (name lower case, spaces removed).
 struct ParamRef {

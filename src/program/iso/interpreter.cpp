@@ -4,20 +4,14 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
-#include <numbers>
 
 #include "program/iso/arc.hpp"
 #include "program/iso/exec.hpp"
+#include "program/iso/expression.hpp"
 
 namespace softmc::program::iso {
 
 using detail::error;
-
-namespace {
-
-constexpr double kDeg = std::numbers::pi / 180.0;
-
-}  // namespace
 
 void rotate_xy(core::Vec& v, double deg) {
   if (deg == 0) return;
@@ -67,9 +61,14 @@ core::Vec to_machine(const ModalState& st, const core::Vec& program) {
 
 core::Vec to_program(const ModalState& st, const core::Vec& machine) {
   if (no_offsets(st)) return machine;  // x - 0 is x, -0 included
-  core::Vec p = machine - st.tool - st.work;
-  rotate_xy(p, -st.rotation_deg);
-  return p - st.axis;
+  return to_program(machine, st.tool, st.work, st.rotation_deg, st.axis);
+}
+
+core::Vec to_program(const core::Vec& machine, const core::Vec& tool, const core::Vec& work, double rotation_deg,
+                     const core::Vec& axis) {
+  core::Vec p = machine - tool - work;
+  rotate_xy(p, -rotation_deg);
+  return p - axis;
 }
 
 OffsetsChanged offsets_of(const ModalState& st) {
@@ -325,17 +324,15 @@ std::optional<LineError> Exec::motion() {
     if (st.motion != Motion::CubicSpline || b.motion->value != Motion::CubicSpline) st.g5_continues = false;
   }
   if (b.nurbs_end) return nurbs_end(*b.nurbs_end);
-  const bool axis_user = b.non_modal && (b.non_modal->value == 100 || b.non_modal->value == 280 ||
-                                         b.non_modal->value == 300 || b.non_modal->value == 920);
-  const bool g43_1 = b.tool_length && b.tool_length->value == 431;
-  if (b.motion && b.motion->value != Motion::None && (axis_user || g43_1)) {
-    const int other = g43_1 ? 431 : b.non_modal->value;
-    return error(b.motion->col, fmt::format("{} and {} both use axis words: put them in separate blocks", g_code_name(other),
+  const int axis_user = b.axis_words_code();  // G10, G28, G30, G92, G43.1: the axis words are theirs
+  if (b.motion && b.motion->value != Motion::None && axis_user) {
+    return error(b.motion->col, fmt::format("{} and {} both use axis words: put them in separate blocks",
+                                            g_code_name(axis_user),
                                             b.motion->value == Motion::Rapid ? "G0" : "the motion code"));
   }
   // Polar coordinates stand for X and Y words here (LinuxCNC's enhance_block counts them as axis words).
   const char* const what = b.has_axes() ? "axis words" : "polar coordinates (@ ^)";
-  if (b.motion && b.motion->value == Motion::None && b.has_position() && !axis_user && !g43_1)
+  if (b.motion && b.motion->value == Motion::None && b.has_position() && !axis_user)
     return error(b.first_position_col(), fmt::format("{} with G80: G80 cancels the motion mode and cannot move", what));
   if (b.motion) {
     if (b.motion->value == Motion::Nurbs && st.motion == Motion::Nurbs)
@@ -349,7 +346,7 @@ std::optional<LineError> Exec::motion() {
       st.nurbs_order = 3;
     }
   }
-  if (axis_user || g43_1) return std::nullopt;  // their axis words were used by setup()/tool_length()
+  if (axis_user) return std::nullopt;  // their axis words were used by setup()/tool_length()
   // A motion word moves (or at least sets the mode); axis words alone move in the modal motion.
   const bool moves = b.has_position() || (b.motion && b.motion->value != Motion::None && !is_cycle(b.motion->value) &&
                                           b.motion->value != Motion::Nurbs);

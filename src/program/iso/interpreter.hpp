@@ -67,6 +67,9 @@ core::Vec to_machine(const ModalState& st, const core::Vec& program);
 // CAM program, where to_machine and to_program are the identity.
 bool no_offsets(const ModalState& st);
 core::Vec to_program(const ModalState& st, const core::Vec& machine);
+// The same under given offsets (G10 L20 works out a position in a system not in effect).
+core::Vec to_program(const core::Vec& machine, const core::Vec& tool, const core::Vec& work, double rotation_deg,
+                     const core::Vec& axis);
 
 // The OffsetsChanged op describing the state's offsets.
 OffsetsChanged offsets_of(const ModalState& st);

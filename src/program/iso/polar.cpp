@@ -64,11 +64,9 @@ std::optional<LineError> Exec::polar_words() {
   if (b.g53_col) return error(*b.g53_col, "G53 cannot be used with polar coordinates (@ ^)");
   // G10, G28, G30, G92 and G43.1 take axis words for themselves (LinuxCNC: "Polar coordinates can only be
   // used for motion"); G28.1 and G30.1 take none.
-  int setup_code = 0;
-  if (b.non_modal && b.non_modal->value != 40 && b.non_modal->value != 921 && b.non_modal->value != 922 &&
-      b.non_modal->value != 923)
+  int setup_code = b.axis_words_code();
+  if (!setup_code && b.non_modal && (b.non_modal->value == 281 || b.non_modal->value == 301))
     setup_code = b.non_modal->value;
-  if (b.tool_length && b.tool_length->value == 431) setup_code = 431;
   if (setup_code != 0)
     return error(col, fmt::format("polar coordinates (@ ^) can only be used for motion, not with {}", g_code_name(setup_code)));
   if (b.nurbs_end) return error(col, "G5.3 takes no polar coordinates (@ ^)");

@@ -86,10 +86,10 @@ std::optional<LineError> Exec::setup() {
         const core::Vec here = st.position - st.tool;  // machine position of the program origin chain
         const double rot = current ? st.rotation_deg : param(rotation_param(n));
         core::Vec target = here;
-        if (l->value == 20) {
-          for (std::size_t a = 0; a < core::kMaxAxes; ++a) target[a] -= param(coord_param(n, a));
-          rotate_xy(target, -rot);
-          target = target - st.axis;  // the current position in system n's program coordinates
+        if (l->value == 20) {  // the current position in system n's program coordinates
+          core::Vec work_n;
+          for (std::size_t a = 0; a < core::kMaxAxes; ++a) work_n[a] = param(coord_param(n, a));
+          target = to_program(st.position, st.tool, work_n, rot, st.axis);
         }
         bool xy = false;
         for (std::size_t a = 0; a < core::kMaxAxes; ++a) {
