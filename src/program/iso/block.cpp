@@ -173,9 +173,12 @@ std::optional<LineError> apply_m(const Word& w, const MTable& mt, Block& b) {
     case 67: case 68: return LineError{w.col, fmt::format("M{} (analog output) is not supported", n)};
     case 70: case 71: case 72: case 73:
       return LineError{w.col, fmt::format("M{} (save/restore modal state) is not supported", n)};
-    case 98: case 99:
-      return LineError{w.col, fmt::format("M{} (Fanuc-style subprogram call/return) is not supported: use o-word "
-                                          "subroutines (o<name> sub … endsub, o<name> call)", n)};
+    case 98:  // the parser runs it before the block is checked (call_m98)
+      return LineError{w.col, "M98 stands alone on its line, with P and L"};
+    case 99:
+      return LineError{w.col, "M99 outside a subprogram: M99 ends a subprogram (a line O<n> after the main program's "
+                              "first block, its blocks, then M99) that M98 P<n> calls; an M99 that repeats the main "
+                              "program for ever is not supported"};
     default: break;
   }
   const int num = static_cast<int>(n);

@@ -1,6 +1,8 @@
 // The control-flow index of one file: every O-word line with the lines it jumps to.
 #include "program/iso/flow_index.hpp"
 
+#include <optional>
+
 #include <fmt/format.h>
 
 namespace softmc::program::iso {
@@ -26,9 +28,59 @@ FlowIndex index_flow(const std::vector<std::string_view>& lines, std::vector<Ind
   auto err = [&](std::size_t line, std::uint32_t col, std::string msg) {
     errors.push_back(IndexError{line, LineError{col, std::move(msg)}});
   };
+  // Fanuc-style subprograms: the bare O-number line waiting for its M99, and the structures open there.
+  struct Pending {
+    ProgramNumber number;
+    std::size_t line = 0, depth = 0;
+    std::string inside;  // the innermost structure open at the O line ("o1 if (line 3)"), if any
+  };
+  std::optional<Pending> pending;
+  bool block_seen = false;  // a bare O-number before any block is the program's own number
+  const auto close_program = [&](std::size_t n, std::uint32_t m99_col) {
+    const Pending p = *pending;
+    pending.reset();
+    const std::string what = fmt::format("subprogram O{} (line {})", p.number.name, p.line + 1);
+    if (stack.size() > p.depth) {
+      const auto& t = idx.entries[stack.back().entry];
+      return err(n, m99_col, fmt::format("M99 ends {} while {} (line {}) inside it is still open", what, label(t.o),
+                                         t.line + 1));
+    }
+    if (!p.inside.empty())
+      return err(p.line, p.number.col, fmt::format("{} starts inside {}: subprograms stand on their own, outside "
+                                                   "every O-word structure", what, p.inside));
+    if (idx.programs.count(p.number.name)) return err(p.line, p.number.col, fmt::format("{} is defined twice", what));
+    const std::size_t e = idx.entries.size();
+    OEntry start{OWord{p.number.name, OKeyword::Program, p.number.col, {}}, p.line, kNoLine, n, false, true};
+    OEntry end{OWord{p.number.name, OKeyword::ProgramEnd, m99_col, {}}, n, kNoLine, p.line, false, true};
+    idx.entries.push_back(std::move(start));
+    idx.entries.push_back(std::move(end));
+    idx.entry_of[p.line] = static_cast<std::uint32_t>(e + 1);
+    idx.entry_of[n] = static_cast<std::uint32_t>(e + 2);
+    idx.programs.emplace(p.number.name, e);
+  };
   for (std::size_t n = 0; n < lines.size(); ++n) {
     auto o = scan_o_word(lines[n]);
-    if (!o) continue;
+    if (!o) {
+      if (auto number = scan_program_number(lines[n])) {
+        if (block_seen) {
+          pending = Pending{std::move(*number), n, stack.size(), {}};
+          if (!stack.empty()) {
+            const auto& t = idx.entries[stack.back().entry];
+            pending->inside = fmt::format("{} (line {})", label(t.o), t.line + 1);
+          }
+        }
+        block_seen = true;
+      } else if (pending) {
+        if (const std::uint32_t col = scan_m99(lines[n])) close_program(n, col);
+      }
+      if (!block_seen) {
+        const auto first = lines[n].find_first_not_of(" \t\r");
+        block_seen = first != std::string_view::npos && lines[n][first] != '(' && lines[n][first] != ';' &&
+                     lines[n][first] != '%';
+      }
+      continue;
+    }
+    block_seen = true;
     idx.entries.push_back(OEntry{std::move(*o), n});
     const std::size_t e = idx.entries.size() - 1;
     idx.entry_of[n] = static_cast<std::uint32_t>(e + 1);
@@ -150,6 +202,8 @@ FlowIndex index_flow(const std::vector<std::string_view>& lines, std::vector<Ind
         break;
       }
       case OKeyword::Call: cur.valid = true; break;
+      case OKeyword::Program:
+      case OKeyword::ProgramEnd: break;  // never written as keywords (scan_program_number, scan_m99)
     }
   }
   for (const auto& open : stack) {

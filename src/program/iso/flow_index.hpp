@@ -30,6 +30,8 @@ struct FlowIndex {
   std::vector<std::uint32_t> entry_of;  // per line: index into entries + 1, 0 = not an O-word line
   std::vector<OEntry> entries;
   std::unordered_map<std::string, std::size_t> subs;  // name → entry index of its "sub"
+  // Fanuc-style subprograms (O1000 … M99, called by M98 P1000): number → entry index of its O line.
+  std::unordered_map<std::string, std::size_t> programs;
 
   const OEntry* at(std::size_t line) const {
     return line < entry_of.size() && entry_of[line] ? &entries[entry_of[line] - 1] : nullptr;
@@ -42,6 +44,10 @@ struct IndexError {
 };
 
 // Builds the index of `lines`; structure errors (unmatched or misnamed keywords) go to `errors`.
+// A bare O-number line after the file's first block, followed by an M99 line before the next bare
+// O-number line, is a Fanuc-style subprogram: an OKeyword::Program entry on the O line whose end is
+// the M99 line, and an OKeyword::ProgramEnd entry there (end: the O line). A bare O-number line
+// without such an M99 (the program number CAM posts put first) is no entry, as before.
 FlowIndex index_flow(const std::vector<std::string_view>& lines, std::vector<IndexError>& errors);
 
 }  // namespace softmc::program::iso

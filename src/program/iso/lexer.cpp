@@ -2,6 +2,7 @@
 // and operator messages, each with the column it came from.
 #include "program/iso/lexer.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -179,6 +180,8 @@ const char* to_string(OKeyword k) {
     case OKeyword::EndRepeat: return "endrepeat";
     case OKeyword::Break: return "break";
     case OKeyword::Continue: return "continue";
+    case OKeyword::Program: return "(subprogram)";
+    case OKeyword::ProgramEnd: return "M99";
   }
   return "?";
 }
@@ -373,6 +376,63 @@ std::optional<OWord> scan_o_word(std::string_view s) {
   OWord o;
   if (o_header(s, i, o)) return std::nullopt;  // the error is reported when the line runs
   return o;
+}
+
+std::optional<ProgramNumber> scan_program_number(std::string_view s) {
+  std::size_t i = 0;
+  skip_spaces(s, i);
+  if (i < s.size() && (s[i] == 'n' || s[i] == 'N')) {
+    ++i;
+    while (i < s.size() && (is_digit(s[i]) || is_space(s[i]) || s[i] == '.')) ++i;
+  }
+  if (i >= s.size() || (s[i] != 'o' && s[i] != 'O')) return std::nullopt;
+  const std::size_t at = i;
+  if (bare_o_word(s, i) == std::string_view::npos) return std::nullopt;
+  ProgramNumber p;
+  p.col = col_of(at);
+  bool any = false;
+  for (std::size_t k = at + 1; k < s.size() && (is_digit(s[k]) || is_space(s[k])); ++k) {
+    if (!is_digit(s[k])) continue;
+    any = true;
+    if (!(p.name.empty() && s[k] == '0')) p.name += s[k];  // O0100 is O100, as o_header names it
+  }
+  if (!any) return std::nullopt;  // o<name>: not a program number
+  if (p.name.empty()) p.name = "0";
+  return p;
+}
+
+std::uint32_t scan_m99(std::string_view s) {
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const char c = s[i];
+    if (c == ';') return 0;
+    if (c == '(') {
+      const std::size_t close = s.find(')', i);
+      if (close == std::string_view::npos) return 0;
+      i = close;
+      continue;
+    }
+    if (c == '<') {  // #<name>
+      const std::size_t close = s.find('>', i);
+      if (close == std::string_view::npos) return 0;
+      i = close;
+      continue;
+    }
+    if (c != 'm' && c != 'M') continue;
+    if (i > 0 && is_letter(s[i - 1])) continue;  // a function name such as "mod" or "sum"
+    std::size_t k = i + 1;
+    skip_spaces(s, k);
+    long long v = 0;
+    std::size_t digits = 0;
+    while (k < s.size() && (is_digit(s[k]) || is_space(s[k]))) {
+      if (is_digit(s[k])) {
+        v = std::min(v * 10 + (s[k] - '0'), 1000LL);
+        ++digits;
+      }
+      ++k;
+    }
+    if (digits > 0 && v == 99 && (k >= s.size() || s[k] != '.')) return col_of(i);
+  }
+  return 0;
 }
 
 }  // namespace softmc::program::iso

@@ -35,8 +35,11 @@ struct Assignment {
   std::uint32_t col = 0;
 };
 
+// Program and ProgramEnd are not written as keywords: they are a Fanuc-style subprogram's "O1000"
+// line and the M99 line that closes it (the control-flow index finds them; docs/gcode.md).
 enum class OKeyword : std::uint8_t {
-  Sub, EndSub, Call, Return, If, ElseIf, Else, EndIf, While, EndWhile, Do, Repeat, EndRepeat, Break, Continue
+  Sub, EndSub, Call, Return, If, ElseIf, Else, EndIf, While, EndWhile, Do, Repeat, EndRepeat, Break, Continue,
+  Program, ProgramEnd
 };
 const char* to_string(OKeyword k);
 
@@ -90,5 +93,17 @@ std::string format_message(std::string_view text, const Parameters& params);
 // Reads only the O-word header (name, keyword, column) of a line, without evaluating anything:
 // the control-flow index is built from it before the program runs.
 std::optional<OWord> scan_o_word(std::string_view line);
+
+// A bare O-number line ("O1000", after an optional N word, nothing after it but spaces and
+// comments): its number as O-word names are kept ("1000": no leading zeros) and the O's column.
+struct ProgramNumber {
+  std::string name;
+  std::uint32_t col = 0;
+};
+std::optional<ProgramNumber> scan_program_number(std::string_view line);
+
+// The column of an M99 word on the line (outside comments and #<names>), 0 where there is none: a
+// quick scan for the control-flow index; the line is lexed in full when it runs.
+std::uint32_t scan_m99(std::string_view line);
 
 }  // namespace softmc::program::iso

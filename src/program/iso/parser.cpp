@@ -108,6 +108,11 @@ struct LoopCount {
 struct CallFrame {
   std::size_t file = 0, return_line = 0;
   std::vector<LoopCount> loops;
+  // An M98 call of a Fanuc-style subprogram: no parameter scope of its own (#1… stay global, as on
+  // a Fanuc control), its O line, and the passes left including the present one (M98 L).
+  bool m98 = false;
+  std::size_t program_line = 0;
+  long long passes_left = 0;
 };
 
 class ProgramReader {
@@ -159,6 +164,11 @@ class ProgramReader {
       } else {
         read_line(f, pc);
         ++pc;
+        if (jump_) {  // an M98 call
+          f = jump_->first;
+          pc = jump_->second;
+          jump_.reset();
+        }
       }
     }
     finish();
@@ -263,6 +273,8 @@ class ProgramReader {
       }
     }
     if (aborts(f, pc)) return;
+    for (const Word& w : lexed_.words)
+      if (w.letter == 'M' && w.value == 98) return call_m98(f, pc, w);
     if (lexed_.words.empty()) {
       emit_messages(f, pc, lexed_.assignments.empty() ? 1 : lexed_.assignments.front().col);
       return;
@@ -426,7 +438,8 @@ class ProgramReader {
 
   void o_line(const OEntry& e, std::size_t& f, std::size_t& pc) {
     if (state_.ended) {
-      if (e.o.keyword == OKeyword::Sub && e.valid) {  // subroutines may follow M2 (they are never run)
+      // Subroutines and subprograms may follow M2 (they are never run there).
+      if ((e.o.keyword == OKeyword::Sub || e.o.keyword == OKeyword::Program) && e.valid) {
         pc = e.end + 1;
         return;
       }
@@ -442,7 +455,9 @@ class ProgramReader {
     }
     seen_block_ = true;
     switch (e.o.keyword) {
-      case OKeyword::Sub: pc = e.end + 1; return;  // a definition: skipped until called
+      case OKeyword::Sub:
+      case OKeyword::Program: pc = e.end + 1; return;  // a definition: skipped until called
+      case OKeyword::ProgramEnd: m99(e, f, pc); return;
       case OKeyword::EndSub:
       case OKeyword::Return: {
         // #<_value> is what this return gives, 0 without an expression (LinuxCNC 2.9: retval.ngc's
@@ -651,8 +666,116 @@ class ProgramReader {
   void return_from_sub(std::size_t& f, std::size_t& pc) {
     f = frames_.back().file;
     pc = frames_.back().return_line;
+    const bool scoped = !frames_.back().m98;
     frames_.pop_back();
-    params_.pop_frame();
+    if (scoped) params_.pop_frame();
+  }
+
+  // ---- Fanuc-style subprograms: M98 P<n> [L<k>] calls O<n> … M99 ----
+
+  // The subprogram M98 P names, in this file or the main one: P itself, else (P above 9999, no L)
+  // Fanuc's packed form P<passes><4-digit number>. False (reported) when there is none.
+  bool find_program(std::size_t f, long long p, bool has_l, long long& passes, std::size_t& pf, std::size_t& line) {
+    const auto look = [&](long long number) {
+      const std::string name = std::to_string(number);
+      for (const std::size_t i : {f, std::size_t{0}}) {
+        const auto it = files_[i]->flow.programs.find(name);
+        if (it == files_[i]->flow.programs.end()) continue;
+        pf = i;
+        line = files_[i]->flow.entries[it->second].line;
+        return true;
+      }
+      return false;
+    };
+    if (look(p)) return true;
+    if (!has_l && p > 9999 && look(p % 10000)) {
+      passes = p / 10000;
+      return true;
+    }
+    return false;
+  }
+
+  void call_m98(std::size_t f, std::size_t pc, const Word& m) {
+    const std::string_view line = files_[f]->lines[pc];
+    std::optional<Word> p, l;
+    for (const Word& w : lexed_.words) {
+      if (w.letter == 'N' || &w == &m) continue;
+      if (w.letter == 'P' && !p) {
+        p = w;
+      } else if (w.letter == 'L' && !l) {
+        l = w;
+      } else {
+        return fail(f, pc, line, LineError{w.col, fmt::format("M98 stands alone on its line, with P (the subprogram) "
+                                                              "and L (how many times): {} is not allowed here",
+                                                              w.letter == 'P' || w.letter == 'L'
+                                                                  ? fmt::format("a second {}", w.letter)
+                                                                  : fmt::format("{}{:g}", w.letter, w.value))});
+      }
+    }
+    seen_block_ = true;
+    const auto whole = [](const Word& w) { return w.value >= 0 && w.value == std::floor(w.value); };
+    if (!p) return fail(f, pc, line, LineError{m.col, "M98 needs P: the number of the subprogram O<n> … M99 to call"});
+    if (!whole(*p)) return fail(f, pc, line, LineError{p->col, fmt::format("M98 P{:g}: P is a subprogram number (a "
+                                                                            "whole number, 0 or more)", p->value)});
+    if (l && !whole(*l)) return fail(f, pc, line, LineError{l->col, fmt::format("M98 L{:g}: L is how many times to run "
+                                                                                 "it (a whole number, 0 or more)", l->value)});
+    long long passes = l ? static_cast<long long>(l->value) : 1;
+    std::size_t pf = 0, def = 0;
+    if (!find_program(f, static_cast<long long>(p->value), l.has_value(), passes, pf, def))
+      return fail(f, pc, line, LineError{p->col, fmt::format("M98 P{0}: subprogram O{0} is not in the program (a line "
+                                                             "O{0} after the main program's first block, then its "
+                                                             "blocks, then M99)", static_cast<long long>(p->value))});
+    if (passes > static_cast<long long>(opt_.max_loop_iterations))
+      return fail(f, pc, line, LineError{(l ? *l : *p).col, fmt::format("M98 runs the subprogram {} times, above the loop "
+                                                                         "limit {}", passes, opt_.max_loop_iterations)});
+    emit_messages(f, pc, m.col);
+    if (passes == 0) return;
+    if (frames_.size() > opt_.max_call_depth) {
+      add_error(f, pc, m.col, fmt::format("subprogram calls nested more than {} deep (endless recursion?)",
+                                          opt_.max_call_depth));
+      done_ = true;
+      return;
+    }
+    CallFrame frame{f, pc + 1, {}};
+    frame.m98 = true;
+    frame.program_line = def;
+    frame.passes_left = passes;
+    frames_.push_back(std::move(frame));
+    jump_ = {pf, def + 1};
+  }
+
+  // M99 closing a subprogram: the next pass (M98 L), or back after the M98. The line holds M99
+  // alone (with N and comments); M99 P<seq> (return to a sequence number) is not supported.
+  void m99(const OEntry& e, std::size_t& f, std::size_t& pc) {
+    const std::string_view line = files_[f]->lines[pc];
+    lex(line);
+    if (lexed_.error) {
+      fail(f, pc, line, std::move(*lexed_.error));
+      ++pc;
+      return;
+    }
+    for (const Word& w : lexed_.words) {
+      if (w.letter == 'N' || (w.letter == 'M' && w.value == 99)) continue;
+      fail(f, pc, line, LineError{w.col, w.letter == 'P' ? std::string("M99 P (return to a sequence number) is not "
+                                                                         "supported: M99 returns after the M98")
+                                                          : fmt::format("M99 stands alone on its line (with N): {}{:g} "
+                                                                        "is not allowed here", w.letter, w.value)});
+      ++pc;
+      return;
+    }
+    emit_messages(f, pc, e.o.col);
+    if (frames_.size() <= 1 || !frames_.back().m98) {
+      add_error(f, pc, e.o.col, fmt::format("M99 of subprogram O{} reached outside an M98 call", e.o.name));
+      ++pc;
+      return;
+    }
+    CallFrame& top = frames_.back();
+    if (--top.passes_left > 0) {
+      top.loops.clear();
+      pc = top.program_line + 1;
+      return;
+    }
+    return_from_sub(f, pc);
   }
 
   void finish() {
@@ -705,6 +828,7 @@ class ProgramReader {
   std::vector<Instruction> comp_out_;
   std::vector<std::unique_ptr<SourceFile>> files_;
   std::vector<CallFrame> frames_;
+  std::optional<std::pair<std::size_t, std::size_t>> jump_;  // where a line's M98 goes next (file, line)
   std::string main_dir_;
   LexedLine lexed_;
   FastBlock fast_;

@@ -54,11 +54,11 @@ TEST(IsoDiagnostics, UnknownAndUnsupportedWords) {
   EXPECT_EQ(one_error("G1.25\n"), "t.ngc:1:1: error: malformed G code G1.25: at most one decimal place");
   EXPECT_EQ(one_error("M200\n"), "t.ngc:1:1: error: unknown M code M200 (M0 … M199)");
   EXPECT_EQ(one_error("M3.5\n"), "t.ngc:1:1: error: malformed M code M3.5: M codes are whole numbers");
-  // LinuxCNC 2.9 runs Fanuc-style M98 P<n> / O<n> … M99 subprograms; softmc says plainly that it does not
-  // (it said "P word with nothing to use it").
+  // Fanuc-style M98 P<n> / O<n> … M99 subprograms run (iso_fanuc_subprogram_test.cpp); a call of one
+  // that is not there names it and says what a definition looks like.
   EXPECT_EQ(one_error("M98 P100 L2\n"),
-            "t.ngc:1:1: error: M98 (Fanuc-style subprogram call/return) is not supported: use o-word subroutines "
-            "(o<name> sub … endsub, o<name> call)");
+            "t.ngc:1:5: error: M98 P100: subprogram O100 is not in the program (a line O100 after the main "
+            "program's first block, then its blocks, then M99)");
   EXPECT_EQ(one_error("G33 X1 K1\n").rfind("t.ngc:1:1: error: G33 (spindle-synchronised motion) is not supported", 0), 0u);
   // G84 is a floating-holder cycle at the programmed F (LinuxCNC 2.9): it needs the spindle turning clockwise.
   EXPECT_EQ(one_error("F100 G84 X1 Z-1 R1\n"), "t.ngc:1:6: error: spindle not turning in G84: program M3 S… first");
