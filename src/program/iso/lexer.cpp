@@ -365,29 +365,30 @@ LexedLine lex_line(std::string_view line) {
   return out;
 }
 
-std::optional<OWord> scan_o_word(std::string_view s) {
+namespace {
+// Where a line's O word starts (after spaces and an optional N word), or npos.
+std::size_t o_word_at(std::string_view s) {
   std::size_t i = 0;
   skip_spaces(s, i);
   if (i < s.size() && (s[i] == 'n' || s[i] == 'N')) {
     ++i;
     while (i < s.size() && (is_digit(s[i]) || is_space(s[i]) || s[i] == '.')) ++i;
   }
-  if (i >= s.size() || (s[i] != 'o' && s[i] != 'O')) return std::nullopt;
+  return i < s.size() && (s[i] == 'o' || s[i] == 'O') ? i : std::string_view::npos;
+}
+}  // namespace
+
+std::optional<OWord> scan_o_word(std::string_view s) {
+  std::size_t i = o_word_at(s);
+  if (i == std::string_view::npos) return std::nullopt;
   OWord o;
   if (o_header(s, i, o)) return std::nullopt;  // the error is reported when the line runs
   return o;
 }
 
 std::optional<ProgramNumber> scan_program_number(std::string_view s) {
-  std::size_t i = 0;
-  skip_spaces(s, i);
-  if (i < s.size() && (s[i] == 'n' || s[i] == 'N')) {
-    ++i;
-    while (i < s.size() && (is_digit(s[i]) || is_space(s[i]) || s[i] == '.')) ++i;
-  }
-  if (i >= s.size() || (s[i] != 'o' && s[i] != 'O')) return std::nullopt;
-  const std::size_t at = i;
-  if (bare_o_word(s, i) == std::string_view::npos) return std::nullopt;
+  const std::size_t at = o_word_at(s);
+  if (at == std::string_view::npos || bare_o_word(s, at) == std::string_view::npos) return std::nullopt;
   ProgramNumber p;
   p.col = col_of(at);
   bool any = false;
