@@ -403,7 +403,10 @@ std::optional<ProgramNumber> scan_program_number(std::string_view s) {
 }
 
 std::uint32_t scan_m99(std::string_view s) {
-  for (std::size_t i = 0; i < s.size(); ++i) {
+  std::size_t first = 0;
+  skip_spaces(s, first);
+  if (first < s.size() && s[first] == '/') return 0;  // a block-delete line never ends a subprogram
+  for (std::size_t i = first; i < s.size(); ++i) {
     const char c = s[i];
     if (c == ';') return 0;
     if (c == '(') {

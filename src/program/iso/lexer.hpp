@@ -102,8 +102,9 @@ struct ProgramNumber {
 };
 std::optional<ProgramNumber> scan_program_number(std::string_view line);
 
-// The column of an M99 word on the line (outside comments and #<names>), 0 where there is none: a
-// quick scan for the control-flow index; the line is lexed in full when it runs.
+// The column of an M99 word on the line (outside comments and #<names>), 0 where there is none or
+// the line is a block-delete line ("/M99"): a quick scan for the control-flow index; the line is
+// lexed in full when it runs.
 std::uint32_t scan_m99(std::string_view line);
 
 }  // namespace softmc::program::iso

@@ -154,6 +154,7 @@ TEST(IsoFanucSubprograms, TheM99ScanSeesOnlyTheWord) {
   EXPECT_EQ(iso::scan_m99("M9"), 0u);
   EXPECT_EQ(iso::scan_m99("M990"), 0u);
   EXPECT_EQ(iso::scan_m99("M99.5"), 0u);
+  EXPECT_EQ(iso::scan_m99(" /M99"), 0u);  // block delete: not the end of a subprogram
   ASSERT_TRUE(iso::scan_program_number("N5 O0100 (holes)"));
   EXPECT_EQ(iso::scan_program_number("N5 O0100 (holes)")->name, "100");
   EXPECT_EQ(iso::scan_program_number("N5 O0100 (holes)")->col, 4u);
