@@ -130,11 +130,12 @@ std::optional<LineError> Exec::non_motion_m_and_words() {
   if (b.spindle_mode) {
     const bool css = b.spindle_mode->value == 960;
     if (css && !b.has('S')) return error(b.spindle_mode->col, "G96 needs an S word: the surface speed");
+    st.css = css;  // modal: a later S alone is a surface speed too (LinuxCNC)
   }
   if (const auto& s = w('S')) {
     SpindleSpeed sp;
-    const bool css = b.spindle_mode ? b.spindle_mode->value == 960 : false;
-    if (css) {
+    st.spindle_speed = s->value;
+    if (st.css) {
       sp.css = true;
       sp.surface_m_min = st.units == Units::Inch ? s->value * 0.3048 : s->value;  // ft/min → m/min
       if (const auto& d = w('D')) sp.max_rpm = d->value;
@@ -173,6 +174,11 @@ std::optional<LineError> Exec::non_motion_m_and_words() {
       case 48: case 49:
         mfn(m);
         st.feed_override = m.number == 48;
+        continue;
+      case 7: case 8: case 9: case 17:  // coolant (P-10 group 5): mist, flood, off, both
+        mfn(m);
+        st.mist = m.number == 7 || m.number == 17 || (m.number == 8 && st.mist);
+        st.flood = m.number == 8 || m.number == 17 || (m.number == 7 && st.flood);
         continue;
       case 62: case 63: case 64: case 65: {
         const auto& p = w('P');

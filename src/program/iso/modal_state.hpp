@@ -41,6 +41,9 @@ struct ModalState {
   bool tool_length_on = false;
 
   SpindleDir spindle = SpindleDir::Stopped;  // M3/M4 turn it, M5 and M19 stop it
+  bool css = false;                          // G96 (constant surface speed) / G97
+  double spindle_speed = 0;                  // the last S as written (rpm, or the surface speed under G96)
+  bool mist = false, flood = false;          // M7, M8 (M17 both) / M9
   bool feed_override = true;                 // M48 on / M49 off (G84 turns it off while tapping)
 
   int selected_tool = 0;  // T

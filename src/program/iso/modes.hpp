@@ -39,6 +39,32 @@ constexpr bool is_cycle(Motion m) { return m >= Motion::Drill73; }
 constexpr bool is_spline(Motion m) { return m == Motion::CubicSpline || m == Motion::QuadSpline || m == Motion::Nurbs; }
 constexpr bool is_feed_motion(Motion m) { return m != Motion::None && m != Motion::Rapid; }
 
+// The G code of a motion mode, times ten (G80 800, G1 10, G5.2 52, G81 810): LinuxCNC's #<_motion_mode>.
+constexpr int motion_code10(Motion m) {
+  switch (m) {
+    case Motion::None: return 800;
+    case Motion::Rapid: return 0;
+    case Motion::Linear: return 10;
+    case Motion::ArcCw: return 20;
+    case Motion::ArcCcw: return 30;
+    case Motion::CubicSpline: return 50;
+    case Motion::QuadSpline: return 51;
+    case Motion::Nurbs: return 52;
+    case Motion::Drill73: return 730;
+    case Motion::Drill81: return 810;
+    case Motion::Drill82: return 820;
+    case Motion::Drill83: return 830;
+    case Motion::Bore85: return 850;
+    case Motion::Bore86: return 860;
+    case Motion::Bore89: return 890;
+    case Motion::Tap74: return 740;
+    case Motion::Tap84: return 840;
+    case Motion::BackBore87: return 870;
+    case Motion::Bore88: return 880;
+  }
+  return 800;
+}
+
 inline constexpr double kMmPerInch = 25.4;
 
 constexpr double mm_per_unit(Units u) { return u == Units::Inch ? kMmPerInch : 1.0; }

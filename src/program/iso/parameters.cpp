@@ -1,6 +1,8 @@
 // Parameters of RS274/NGC as LinuxCNC has them: numbered #1…#5602, named locals #<x> and globals #<_x>.
 #include "program/iso/parameters.hpp"
 
+#include <iterator>
+
 #include <fmt/format.h>
 
 namespace softmc::program::iso {
@@ -26,7 +28,32 @@ std::optional<std::string> Parameters::write(long long n, double v) {
   return std::nullopt;
 }
 
+namespace {
+constexpr const char* kPredefinedNames[] = {
+    "_x", "_y", "_z", "_a", "_b", "_c", "_u", "_v", "_w",
+    "_abs_x", "_abs_y", "_abs_z", "_abs_a", "_abs_b", "_abs_c", "_abs_u", "_abs_v", "_abs_w",
+    "_motion_mode", "_plane", "_ccomp", "_metric", "_imperial", "_absolute", "_incremental", "_inverse_time",
+    "_units_per_minute", "_units_per_rev", "_coord_system", "_tool_offset", "_retract_r_plane", "_retract_old_z",
+    "_spindle_rpm_mode", "_spindle_css_mode", "_ijk_absolute_mode", "_lathe_diameter_mode", "_lathe_radius_mode",
+    "_spindle_on", "_spindle_cw", "_mist", "_flood", "_speed_override", "_feed_override", "_feed", "_rpm",
+    "_current_tool", "_selected_tool", "_call_level", "_remap_level", "_line", "_task"};
+static_assert(std::size(kPredefinedNames) == static_cast<std::size_t>(Predefined::Count));
+}  // namespace
+
+const char* predefined_name(Predefined p) { return kPredefinedNames[static_cast<std::size_t>(p)]; }
+
+std::optional<Predefined> predefined_of(std::string_view name) {
+  if (name.size() < 2 || name[0] != '_') return std::nullopt;
+  for (std::size_t i = 0; i < std::size(kPredefinedNames); ++i)
+    if (name == kPredefinedNames[i]) return static_cast<Predefined>(i);
+  return std::nullopt;
+}
+
 std::optional<std::string> Parameters::read_named(std::string_view name, double& out) const {
+  if (const auto p = predefined_of(name)) {
+    out = predefined_[static_cast<std::size_t>(*p)];
+    return std::nullopt;
+  }
   if (!name.empty() && name[0] == '_') {
     const auto it = globals_.find(std::string(name));
     if (it == globals_.end()) return fmt::format("named parameter #<{}> is not defined", name);
@@ -41,18 +68,20 @@ std::optional<std::string> Parameters::read_named(std::string_view name, double&
   return fmt::format("named parameter #<{}> is not defined", name);
 }
 
-void Parameters::write_named(std::string_view name, double v) {
+std::optional<std::string> Parameters::write_named(std::string_view name, double v) {
+  if (predefined_of(name)) return fmt::format("named parameter #<{}> is read-only", name);
   if (!name.empty() && name[0] == '_') {
     globals_[std::string(name)] = v;
-    return;
+    return std::nullopt;
   }
   auto& named = frames_.back().named;
   for (auto& [k, old] : named)
     if (k == name) {
       old = v;
-      return;
+      return std::nullopt;
     }
   named.emplace_back(std::string(name), v);
+  return std::nullopt;
 }
 
 bool Parameters::exists(std::string_view name) const {

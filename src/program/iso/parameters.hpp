@@ -2,10 +2,12 @@
 //
 // #1…#30 and named locals live in the frame of the current subroutine call (a call gets fresh
 // ones: its arguments in #1…#n); every other numbered parameter and every global is shared. Values
-// of lengths are in machine units (mm), as LinuxCNC keeps them in its "user" units.
+// of lengths are in machine units (mm), as LinuxCNC keeps them in its "user" units, but for the
+// current position (#5420…, #<_x>…), which is in the program's units as LinuxCNC gives it.
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -34,6 +36,21 @@ inline constexpr int kToolLast = 5413;            // the last of the loaded tool
 // #5599: DEBUG messages are shown while it is not 0 (LinuxCNC; 1 at start).
 inline constexpr int kDebugOutput = 5599;
 
+// LinuxCNC's predefined named parameters (read-only: #<_x>, #<_motion_mode>, …; docs/gcode.md), in
+// the order of kPredefinedNames. The parser sets them from its state before a line that may read one.
+enum class Predefined : std::uint8_t {
+  X, Y, Z, A, B, C, U, V, W,                          // current position, program coordinates and units
+  AbsX, AbsY, AbsZ, AbsA, AbsB, AbsC, AbsU, AbsV, AbsW,  // machine coordinates, program units
+  MotionMode, Plane, Ccomp, Metric, Imperial, Absolute, Incremental, InverseTime, UnitsPerMinute, UnitsPerRev,
+  CoordSystem, ToolOffset, RetractRPlane, RetractOldZ, SpindleRpmMode, SpindleCssMode, IjkAbsoluteMode,
+  LatheDiameterMode, LatheRadiusMode, SpindleOn, SpindleCw, Mist, Flood, SpeedOverride, FeedOverride, Feed, Rpm,
+  CurrentTool, SelectedTool, CallLevel, RemapLevel, Line, Task, Count
+};
+// The name of each (without '#<' '>'), as LinuxCNC spells it.
+const char* predefined_name(Predefined p);
+// The predefined parameter a (lower-case) name is, if any.
+std::optional<Predefined> predefined_of(std::string_view name);
+
 constexpr int coord_param(int system, std::size_t axis) { return kCoordSystemBase + 20 * (system - 1) + static_cast<int>(axis); }
 constexpr int rotation_param(int system) { return kCoordSystemBase + 20 * (system - 1) + 9; }
 
@@ -54,7 +71,10 @@ class Parameters {
   // Named parameters; `name` is lower case without spaces or brackets. Names starting with '_'
   // are global, others local to the current call.
   std::optional<std::string> read_named(std::string_view name, double& out) const;
-  void write_named(std::string_view name, double v);
+  // Refused (the message says why) for a predefined name: those are read-only.
+  std::optional<std::string> write_named(std::string_view name, double v);
+  // The interpreter's own: a predefined parameter's value.
+  void set_predefined(Predefined p, double v) { predefined_[static_cast<std::size_t>(p)] = v; }
   bool exists(std::string_view name) const;
 
   // Subroutine calls: a fresh frame with args in #1…#n, dropped on return.
@@ -73,6 +93,7 @@ class Parameters {
   std::vector<double> numbered_;
   std::vector<Frame> frames_;
   std::unordered_map<std::string, double> globals_;
+  std::array<double, static_cast<std::size_t>(Predefined::Count)> predefined_{};
   int runtime_only_ = 0;
 };
 

@@ -241,7 +241,7 @@ class ProgramReader {
       if (fast_.op) put(Instruction{core::SourceLoc{static_cast<std::uint16_t>(f), line_no(pc), fast_.col}, std::move(*fast_.op)});
       return;
     }
-    lex(line);
+    lex(line, pc);
     if (lexed_.kind == LineKind::Percent) {
       // A '%' before any block opens the program; a later one closes it (the rest is not read) if
       // one opened it, and is an error if none did (rs274: "Bad character '%' used"); after M2/M30 it
@@ -267,7 +267,7 @@ class ProgramReader {
     // Parameters set on a line take effect after the whole line has been read (LinuxCNC).
     for (const auto& a : lexed_.assignments) {
       if (a.named) {
-        params_.write_named(a.name, a.value);
+        if (auto err = params_.write_named(a.name, a.value)) add_error(f, pc, a.col, std::move(*err));
       } else if (auto err = params_.write(a.number, a.value)) {
         add_error(f, pc, a.col, std::move(*err));
       }
@@ -358,17 +358,79 @@ class ProgramReader {
   }
 
   // Lexes a line with the parameters up to date. Only a line with a '#' can read a parameter, so
-  // the position parameters (#5420…) are brought up to date only then, not after every block.
-  void lex(std::string_view line) {
-    if (position_params_stale_ && std::memchr(line.data(), '#', line.size())) {
-      update_position_parameters();
-      position_params_stale_ = false;
+  // the position parameters (#5420…) are brought up to date only then, not after every block, and
+  // the predefined named ones (#<_x>, …) only before a line that also has a '<'.
+  void lex(std::string_view line, std::size_t pc = 0) {
+    if (std::memchr(line.data(), '#', line.size())) {
+      if (position_params_stale_) {
+        update_position_parameters();
+        position_params_stale_ = false;
+        named_params_stale_ = true;
+      }
+      if (std::memchr(line.data(), '<', line.size())) {
+        if (named_params_stale_) update_named_parameters();
+        named_params_stale_ = false;
+        params_.set_predefined(Predefined::Line, static_cast<double>(line_no(pc)));
+      }
     }
     lex_line(line, params_, lexed_);
   }
 
+  // The current position in program units (#5420…, #<_x>…: LinuxCNC gives them in G20's inches).
+  core::Vec program_units(core::Vec v) const {
+    const double k = mm_per_unit(state_.units);
+    for (std::size_t a = 0; a < core::kMaxAxes; ++a)
+      if (a < 3 || a > 5) v[a] /= k;
+    return v;
+  }
+
+  // LinuxCNC's predefined named parameters from the modal state (the values rs274 gives).
+  void update_named_parameters() {
+    const ModalState& st = state_;
+    const auto set = [&](Predefined p, double v) { params_.set_predefined(p, v); };
+    const auto flag = [&](Predefined p, bool on) { params_.set_predefined(p, on ? 1.0 : 0.0); };
+    const core::Vec prog = program_units(to_program(st, st.position)), mach = program_units(st.position);
+    for (std::size_t a = 0; a < core::kMaxAxes; ++a) {
+      set(static_cast<Predefined>(static_cast<std::size_t>(Predefined::X) + a), prog[a]);
+      set(static_cast<Predefined>(static_cast<std::size_t>(Predefined::AbsX) + a), mach[a]);
+    }
+    set(Predefined::MotionMode, motion_code10(st.motion));
+    set(Predefined::Plane, st.plane == Plane::XY ? 170 : st.plane == Plane::XZ ? 180 : 190);
+    set(Predefined::Ccomp, st.comp == Comp::Left ? 410 : st.comp == Comp::Right ? 420 : 400);
+    flag(Predefined::Metric, st.units == Units::Mm);
+    flag(Predefined::Imperial, st.units == Units::Inch);
+    flag(Predefined::Absolute, st.distance == Distance::Absolute);
+    flag(Predefined::Incremental, st.distance == Distance::Incremental);
+    flag(Predefined::InverseTime, st.feed_mode == FeedMode::InverseTime);
+    flag(Predefined::UnitsPerMinute, st.feed_mode == FeedMode::PerMinute);
+    flag(Predefined::UnitsPerRev, false);  // G95 is refused
+    // G54 … G59 are 540 … 590, G59.1 … G59.3 are 591 … 593.
+    set(Predefined::CoordSystem, st.coord_system <= 6 ? 530 + 10 * st.coord_system : 590 + (st.coord_system - 6));
+    flag(Predefined::ToolOffset, st.tool_length_on);
+    flag(Predefined::RetractRPlane, st.retract == Retract::RPlane);
+    flag(Predefined::RetractOldZ, st.retract == Retract::OldZ);
+    flag(Predefined::SpindleRpmMode, !st.css);
+    flag(Predefined::SpindleCssMode, st.css);
+    flag(Predefined::IjkAbsoluteMode, st.arc_distance == Distance::Absolute);
+    flag(Predefined::LatheDiameterMode, false);
+    flag(Predefined::LatheRadiusMode, true);
+    flag(Predefined::SpindleOn, st.spindle != SpindleDir::Stopped);
+    flag(Predefined::SpindleCw, st.spindle == SpindleDir::Cw);
+    flag(Predefined::Mist, st.mist);
+    flag(Predefined::Flood, st.flood);
+    flag(Predefined::SpeedOverride, st.feed_override);  // M48/M49 switch both
+    flag(Predefined::FeedOverride, st.feed_override);
+    set(Predefined::Feed, st.feed_word);
+    set(Predefined::Rpm, st.spindle_speed);
+    set(Predefined::CurrentTool, st.current_tool);
+    set(Predefined::SelectedTool, st.selected_tool);
+    set(Predefined::CallLevel, static_cast<double>(frames_.size() - 1));
+    set(Predefined::RemapLevel, 0);
+    flag(Predefined::Task, true);  // the interpretation is what runs, not a preview
+  }
+
   void update_position_parameters() {
-    const core::Vec p = to_program(state_, state_.position);
+    const core::Vec p = program_units(to_program(state_, state_.position));
     for (std::size_t a = 0; a < core::kMaxAxes; ++a) params_.set(kCurrentPosition + static_cast<int>(a), p[a]);
     // #5400…#5410 describe the loaded tool as its table entry has it, whatever G43/G49 is in effect
     // (LinuxCNC set_tool_parameters: tool_table[0], the spindle; zeros with no tool loaded).
@@ -388,7 +450,7 @@ class ProgramReader {
 
   // Evaluates the O-word line (its [values]); false (reported) when it has an error.
   bool eval_o(std::size_t f, std::size_t pc, OWord& out) {
-    lex(files_[f]->lines[pc]);
+    lex(files_[f]->lines[pc], pc);
     if (lexed_.error) {
       add_error(f, pc, lexed_.error->col, std::move(lexed_.error->message));
       return false;
@@ -659,6 +721,7 @@ class ProgramReader {
     params_.write_named("_value_returned", 0);
     params_.push_frame(o.args.data(), o.args.size());
     frames_.push_back(CallFrame{f, pc + 1, {}});
+    named_params_stale_ = true;  // #<_call_level>
     f = sf;
     pc = sl + 1;
   }
@@ -668,6 +731,7 @@ class ProgramReader {
     pc = frames_.back().return_line;
     const bool scoped = !frames_.back().m98;
     frames_.pop_back();
+    named_params_stale_ = true;  // #<_call_level>
     if (scoped) params_.pop_frame();
   }
 
@@ -741,6 +805,7 @@ class ProgramReader {
     frame.program_line = def;
     frame.passes_left = passes;
     frames_.push_back(std::move(frame));
+    named_params_stale_ = true;  // #<_call_level>
     jump_ = {pf, def + 1};
   }
 
@@ -748,7 +813,7 @@ class ProgramReader {
   // alone (with N and comments); M99 P<seq> (return to a sequence number) is not supported.
   void m99(const OEntry& e, std::size_t& f, std::size_t& pc) {
     const std::string_view line = files_[f]->lines[pc];
-    lex(line);
+    lex(line, pc);
     if (lexed_.error) {
       fail(f, pc, line, std::move(*lexed_.error));
       ++pc;
@@ -843,6 +908,7 @@ class ProgramReader {
   std::size_t total_lines_ = 0;  // of every file read
   std::size_t sunk_ = 0;         // instructions handed to ParseOptions::sink
   bool position_params_stale_ = true;
+  bool named_params_stale_ = true;  // the predefined named parameters, likewise
   bool seen_block_ = false;
   bool percent_open_ = false;
   bool back_edge_ = false;

@@ -1,0 +1,82 @@
+// LinuxCNC's predefined named parameters (#<_x>, #<_motion_mode>, …; docs/gcode.md). The expected
+// values are what LinuxCNC 2.9's `rs274 -g` printed for the same (DEBUG, …) lines.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "iso_test_util.hpp"
+
+using namespace softmc;
+using namespace softmc::program;
+using namespace softmc::program::iso::test;
+
+namespace {
+
+// The texts of the program's DEBUG/PRINT/MSG messages, in order.
+std::vector<std::string> messages(const Program& p) {
+  std::vector<std::string> out;
+  for (const auto& i : p.instructions)
+    if (const auto* m = std::get_if<Message>(&i.op)) out.push_back(m->text);
+  return out;
+}
+
+}  // namespace
+
+TEST(IsoPredefinedParameters, ModesPositionsAndWordsAsLinuxCncGivesThem) {
+  const auto p = parse_ok(
+      "G21 G90 G17 G10 L2 P2 X1 Y2 Z3\n"
+      "G55 G0 X10 Y20 Z5\n"
+      "F600 S1000 M3 M8\n"
+      "G1 X11\n"
+      "(DEBUG, #<_line> #<_motion_mode> #<_plane> #<_ccomp> #<_metric> #<_absolute> #<_coord_system>)\n"
+      "(DEBUG, #<_x> #<_y> #<_z> #<_abs_x> #<_abs_y> #<_abs_z> #<_feed> #<_rpm>)\n"
+      "(DEBUG, #<_spindle_on> #<_spindle_cw> #<_mist> #<_flood> #<_feed_override> #<_retract_r_plane>)\n"
+      "G20 G91 G18 G56 G93 G98 S200 M4 M7 M49 G90.1\n"
+      "T3 M61 Q3\n"
+      "G1 X1 F30\n"
+      "(DEBUG, #<_line> #<_plane> #<_imperial> #<_incremental> #<_inverse_time> #<_coord_system>)\n"
+      "(DEBUG, #<_x> #<_y> #<_z> #<_abs_z> #<_feed> #<_rpm> #<_selected_tool> #<_ijk_absolute_mode>)\n"
+      "(DEBUG, #<_spindle_on> #<_spindle_cw> #<_mist> #<_flood> #<_feed_override> #<_retract_old_z>)\n"
+      "G96 S300 D2000\n"
+      "S250\n"
+      "(DEBUG, #<_spindle_css_mode> #<_rpm>)\n");
+  const std::vector<std::string> want = {
+      " 5.000000 10.000000 170.000000 400.000000 1.000000 1.000000 550.000000",
+      " 11.000000 20.000000 5.000000 12.000000 22.000000 8.000000 600.000000 1000.000000",
+      " 1.000000 1.000000 0.000000 1.000000 1.000000 1.000000",
+      // In G20 the positions are in inches: 1 inch on from X 11 mm.
+      " 11.000000 180.000000 1.000000 1.000000 1.000000 560.000000",
+      " 1.472441 0.866142 0.314961 0.314961 30.000000 200.000000 3.000000 1.000000",
+      " 1.000000 0.000000 1.000000 1.000000 0.000000 1.000000",
+      " 1.000000 250.000000"};
+  EXPECT_EQ(messages(p), want);
+}
+
+TEST(IsoPredefinedParameters, CallLevelCountsSubroutinesAndSubprograms) {
+  const auto p = parse_ok(
+      "o<s> sub\n"
+      "(DEBUG, #<_call_level> #<_line>)\n"
+      "o<s> endsub\n"
+      "(DEBUG, #<_call_level>)\n"
+      "o<s> call\n"
+      "M98 P100\n"
+      "(DEBUG, #<_call_level> #<_motion_mode>)\n"
+      "M2\n"
+      "O100\n"
+      "(DEBUG, #<_call_level>)\n"
+      "M99\n");
+  EXPECT_EQ(messages(p), (std::vector<std::string>{" 0.000000", " 1.000000 2.000000", " 1.000000",
+                                                    " 0.000000 800.000000"}));
+}
+
+TEST(IsoPredefinedParameters, TheyAreReadOnlyAndThePositionNumbersFollowTheUnits) {
+  // LinuxCNC: "Cannot assign to read-only parameter #<_x>".
+  EXPECT_EQ(one_error("G21\n#<_x> = 3\n"), "t.ngc:2:1: error: named parameter #<_x> is read-only");
+  // #5420… are in program units too (they were in mm under G20).
+  const auto p = parse_ok("G20 G0 X1 Y2\n(DEBUG, #5420 #5421)\n");
+  EXPECT_EQ(messages(p), std::vector<std::string>{" 1.000000 2.000000"});
+  // Other globals are still the program's own.
+  const auto g = parse_ok("#<_mine> = 4\n(DEBUG, #<_mine>)\n");
+  EXPECT_EQ(messages(g), std::vector<std::string>{" 4.000000"});
+}
