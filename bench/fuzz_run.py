@@ -13,6 +13,14 @@
 # look-ahead windows of 4–2 000 blocks; periods of 0.25–2 ms; smoothing off, on, or at 5°/45°; half
 # of the runs with a PLC stimulus (feed holds, overrides 0–200 %, axis enables dropping and coming
 # back). The failures it found at stop 23 are in docs/planner.md ("Not yet", "Found at stop 23").
+#
+# --floor: the same programs, stimuli and machines, except that the period is 0.1, 0.25 or 0.5 ms
+# and each jerk-limited axis's jerk j is drawn so that one cycle of it, j·dt³, lies log-uniformly in
+# [2e-10, 2e-8] mm (the jerk floor, motion::kMinJerkStep_mm and up; the default mode never goes below
+# 1.6e-8). --floor-min / --floor-max change that range. Each program's smallest j·dt³ is in its
+# failN.txt, and every program (failed or not) is one JSON line in runs.jsonl: its j·dt³, period,
+# each axis's jerk and measured jerk over its limit, and the failure, if any (docs/planner.md,
+# "Tiny jerk per cycle").
 import argparse
 import json
 import math
@@ -28,12 +36,16 @@ ap.add_argument("--build", default=os.path.join(HERE, "..", "build"))
 ap.add_argument("--out", default="fuzz_run_out")
 ap.add_argument("--seed", type=int, default=1)
 ap.add_argument("--minutes", type=float, default=10)
+ap.add_argument("--floor", action="store_true", help="machines near the jerk floor (see above)")
+ap.add_argument("--floor-min", type=float, default=2e-10, help="least j·dt³ in mm of --floor")
+ap.add_argument("--floor-max", type=float, default=2e-8, help="largest j·dt³ in mm of --floor")
 args = ap.parse_args()
 BIN = os.path.join(args.build, "apps", "softmc", "softmc")
 until = time.time() + 60 * args.minutes
 rng = random.Random(args.seed)
 out = args.out
 os.makedirs(out, exist_ok=True)
+runs = open(f"{out}/runs.jsonl", "a")
 n_prog = n_fail = 0
 
 def prog_text(r):
@@ -102,9 +114,15 @@ while time.time() < until:
     open(path, "w").write(text)
     sets = []
     lim = {}
+    if args.floor:  # the period first: the jerk is drawn for it
+        period = rng.choice([0.0001, 0.00025, 0.0005])
+        lo, hi = math.log(args.floor_min), math.log(args.floor_max)
     for a in "xyz":
         v = rng.choice([50, 100, 200, 500]); acc = rng.choice([200, 1000, 3000, 10000])
         j = rng.choice([0, 1000, 10000, 100000, 1000000]) if a != "z" or rng.random() < 0.8 else 0
+        if args.floor and j > 0:
+            j = float(f"{math.exp(rng.uniform(lo, hi)) / period**3:.6g}")
+            j = max(j, float(f"{args.floor_min / period**3 * (1 + 1e-5):.6g}"))  # not refused by rounding
         if rng.random() < 0.7 and a != "x": j = lim["x"][2]
         lim[a] = (v, acc, j)
         sets += ["--set", f"axes.{a}.max_vel_mm_s={v}", "--set", f"axes.{a}.max_acc_mm_s2={acc}",
@@ -112,7 +130,12 @@ while time.time() < until:
                  "--set", f"axes.{a}.ferror_limit_mm=1000"]
     la = rng.choice([200, 2000, 16, 4])
     sets += ["--set", f"planner.lookahead={la}"]
-    if rng.random() < 0.3: sets += ["--set", f"period_s={rng.choice([0.00025, 0.0005, 0.002])}"]
+    dt = 0.001  # the built-in machine's period
+    if args.floor: dt = period
+    elif rng.random() < 0.3: dt = rng.choice([0.00025, 0.0005, 0.002])
+    if dt != 0.001: sets += ["--set", f"period_s={dt}"]
+    jdt3 = [lim[a][2] * dt**3 for a in "xyz" if lim[a][2] > 0]
+    min_jdt3 = min(jdt3) if jdt3 else None
     if rng.random() < 0.2: sets += ["--set", f"planner.smoothing_turn_deg={rng.choice([0, 5, 45])}"]
     stim = []
     if rng.random() < 0.5:
@@ -137,11 +160,26 @@ while time.time() < until:
         open(f"{out}/fail{n_fail}.ngc", "w").write(text)
         if stim: open(f"{out}/fail{n_fail}.stim", "w").write("\n".join(stim) + "\n")
         saved = " ".join(sets).replace(f"{out}/p.stim", f"{out}/fail{n_fail}.stim")
-        open(f"{out}/fail{n_fail}.txt", "w").write("; ".join(why) + "\n" + saved + "\n")
+        floor = f"smallest j*dt^3 {min_jdt3:.4g} mm (period {dt:g} s)" if min_jdt3 else f"no jerk limit (period {dt:g} s)"
+        open(f"{out}/fail{n_fail}.txt", "w").write("; ".join(why) + "\n" + saved + "\n" + floor + "\n")
+    def record(why, d):
+        # One line per program in runs.jsonl: where the failures are against j·dt³ (and how close the
+        # others came: each axis's measured jerk over its limit).
+        rec = {"n": n_prog, "period_s": dt, "min_jdt3_mm": min_jdt3, "j": {a: lim[a][2] for a in "xyz"},
+               "stim": bool(stim), "wall_s": round(time.time() - t_start, 3), "fail": n_fail if why else None,
+               "why": why}
+        if d is not None and d.get("result") == "ok":
+            rec["j_ratio"] = {a: d["axes"][a]["max_jerk_mm_s3"] / lim[a][2] for a in "xyz" if lim[a][2] > 0}
+            rec["cycle_time_s"] = d.get("cycle_time_s")
+        elif d is not None:
+            rec["result"] = d.get("result")
+        runs.write(json.dumps(rec) + "\n"); runs.flush()
+    t_start = time.time()
     try:
         r = subprocess.run([BIN, "run", path, "--json"] + sets, capture_output=True, text=True, timeout=600)
     except subprocess.TimeoutExpired:
         save(["TIMEOUT (600 s of wall time)"])
+        record(["TIMEOUT (600 s of wall time)"], None)
         continue
     why = []
     try:
@@ -169,6 +207,7 @@ while time.time() < until:
                     why.append(f"{a} j {m['max_jerk_mm_s3']/j:.6f}{at(m.get('max_jerk_at'))}")
     if why:
         save(why)
+    record(why, d)
     if n_prog % 20 == 0:
         print(f"{n_prog} programs, {n_fail} failures", flush=True)
 print(f"done: {n_prog} programs, {n_fail} failures (saved in {out})", flush=True)
