@@ -28,8 +28,8 @@ Planner::Planner(const MachineLimits& limits, std::size_t queue_capacity, const 
 
 // The shortest piece that is planned as a block: a nanometre, or a twentieth of the least jerk per
 // cycle, j·dt³, where that is smaller. A piece left out leaves its length as a step in the
-// setpoints, a jerk of up to 2·δ/dt³: 10 times the limit for a nanometre at the floor
-// motion::kMinJerkStep_mm, nothing on a machine with 1e-5 mm of jerk per cycle.
+// setpoints, a jerk of up to 2·δ/dt³: 10 times the limit for a nanometre at the old floor of 2e-10
+// mm, once at motion::kMinJerkStep_mm, nothing on a machine with 1e-5 mm of jerk per cycle.
 double Planner::min_length_mm(const MachineLimits& lim) {
   double m = kMinLength_mm;
   const double dt3 = lim.period_s * lim.period_s * lim.period_s;

@@ -567,7 +567,7 @@ TEST(PlannerJerk, RandomChainsOnAVerySoftAxisKeepTheLimits) {
     MachineLimits lim = random_jerk_limits(rng, u);
     lim.period_s = rng() % 2 ? 0.001 : 0.00025;
     auto& soft = lim.axis[rng() % 3];
-    // j·dt³ at least 1e-8 mm, fifty times the floor the configuration allows: nearer the floor a
+    // j·dt³ at least 1e-8 mm, five times the floor the configuration allows: nearer the floor a
     // position-mode stop's landing tolerance (1e-13 of its distance) and the rounding of positions
     // are a few 1e-4 of a cycle's jerk (docs/planner.md, "Jerk": stop 17).
     const double dt3 = lim.period_s * lim.period_s * lim.period_s;
@@ -612,23 +612,24 @@ TEST(PlannerJerk, StopLandingOnALongHelixKeepsTheJerkOfASoftAxis) {
   EXPECT_EQ(res.end, reqs.back().geom.end);
 }
 
-// Axes whose jerk is so low that one cycle of it moves less than a nanometre: j·dt³ from the floor
-// the configuration allows (motion::kMinJerkStep_mm, 2e-10 mm) to ten times it, at 0.1, 0.25 and
-// 0.5 ms cycles (200–2 000 mm/s³ at 0.1 ms), on short lines with exact stops now and then.
+// Axes whose jerk is so low that one cycle of it moves a few nanometres: j·dt³ from the floor the
+// configuration allows (motion::kMinJerkStep_mm, 2e-9 mm) to ten times it, at 0.1, 0.25 and 0.5 ms
+// cycles (2 000–20 000 mm/s³ at 0.1 ms), on short lines with exact stops now and then; and from the
+// old floor, 2e-10 mm (200–2 000 mm/s³ at 0.1 ms), where the roundings below were found and mended.
 struct TinyJerkCase {
   MachineLimits lim;
   double tol = 0;
   std::vector<PathRequest> reqs;
   std::size_t capacity = 0;
 };
-static TinyJerkCase tiny_jerk_case(std::uint64_t seed) {
+static TinyJerkCase tiny_jerk_case(std::uint64_t seed, double floor_mm = kMinJerkStep_mm) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0, 1);
   TinyJerkCase c;
   c.lim.period_s = std::array{0.0001, 0.00025, 0.0005}[rng() % 3];
   const double dt3 = c.lim.period_s * c.lim.period_s * c.lim.period_s;
-  for (int i = 0; i < 3; ++i)  // j·dt³ from the floor kMinJerkStep_mm to ten times it
-    c.lim.axis[i] = {2 + 20 * u(rng), 5 + 60 * u(rng), kMinJerkStep_mm * (1 + 9 * u(rng)) / dt3, -1000, 1000};
+  for (int i = 0; i < 3; ++i)  // j·dt³ from the floor to ten times it
+    c.lim.axis[i] = {2 + 20 * u(rng), 5 + 60 * u(rng), floor_mm * (1 + 9 * u(rng)) / dt3, -1000, 1000};
   c.tol = std::array{0.0, 0.01, 0.05}[rng() % 3];
   core::Vec at = xyz(0, 0, 0);
   const int n = 2 + static_cast<int>(rng() % 5);
@@ -656,13 +657,16 @@ TEST(PlannerJerk, AxesWithATinyJerkPerCycleKeepItAtRestOnAPoint) {
   // Seeds 1–60, two a review found (10 000 seeds), 1096 and 9879, where the certificate's slack of 1e-9 of the
   // distance to a stop let the fallback brake, run for 750 cycles, end 6e-11 mm past it (1.075×),
   // and 2079, where Otg1 landing a stop within a fixed 1e-13 mm broke it 1.0001×.
-  std::vector<std::uint64_t> seeds{1096, 9879, 2079};
-  for (std::uint64_t seed = 1; seed <= 60; ++seed) seeds.push_back(seed);
-  for (const std::uint64_t seed : seeds) {
-    const TinyJerkCase c = tiny_jerk_case(seed);
+  // All were drawn from the floor of 2e-10 mm the roundings were mended at, and still are; seeds
+  // 1–60 also from the configuration's floor since it was raised, motion::kMinJerkStep_mm (2e-9 mm).
+  std::vector<std::pair<std::uint64_t, double>> cases{{1096, 2e-10}, {9879, 2e-10}, {2079, 2e-10}};
+  for (std::uint64_t seed = 1; seed <= 60; ++seed) cases.insert(cases.end(), {{seed, 2e-10}, {seed, kMinJerkStep_mm}});
+  for (const auto& [seed, floor_mm] : cases) {
+    const TinyJerkCase c = tiny_jerk_case(seed, floor_mm);
     const auto res = run_path(c.lim, c.reqs, c.capacity);
-    expect_within(res, c.tol, ("seed " + std::to_string(seed)).c_str());
-    EXPECT_EQ(res.end, c.reqs.back().geom.end) << "seed " << seed;
+    const std::string what = "seed " + std::to_string(seed) + (floor_mm == kMinJerkStep_mm ? " at the floor" : " at 2e-10 mm");
+    expect_within(res, c.tol, what.c_str());
+    EXPECT_EQ(res.end, c.reqs.back().geom.end) << what;
     if (HasFailure()) break;
   }
 }
@@ -674,7 +678,8 @@ TEST(PlannerJerk, AxesWithATinyJerkPerCycleKeepItAtRestOnAPoint) {
 // and the stop plan covers the rest.
 TEST(PlannerJerk, SubNanometreMovesBetweenExactStopsKeepTheJerk) {
   for (const double d : {1e-12, 1e-11, 5e-11, 1e-10, 5e-10, 1e-9, 1.5e-9, 3e-9, 1e-8, 1e-7}) {
-    for (const double jdt3 : {kMinJerkStep_mm, 5e-10, 1e-9, 2e-9}) {
+    // The floor and above it, and the old floor's 2e-10 to 1e-9 mm where these moves were mended.
+    for (const double jdt3 : {2e-10, 5e-10, 1e-9, kMinJerkStep_mm, 5e-9, 1e-8}) {
       MachineLimits lim;
       lim.period_s = 0.00025;
       const double dt3 = lim.period_s * lim.period_s * lim.period_s;

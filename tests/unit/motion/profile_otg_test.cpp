@@ -383,7 +383,8 @@ TEST(Otg, S2_AxesStartInTheSameCycleEachWithItsOwnLimits) {
 // A position-mode stop ends on its target without a step in position: the peak-speed search lands
 // within 1e-13 of the distance, and the rest is taken up by stretching the motion (JerkPath::snap_end),
 // not by jumping onto the target at the end. Where one cycle of jerk is a fraction of a nanometre
-// (j·dt³ = 3.1e-10 to 1.6e-9 mm: 20–100 mm/s³ at 0.25 ms, down to 1.6 times motion::kMinJerkStep_mm),
+// (j·dt³ = 3.1e-10 to 1.6e-9 mm: 20–100 mm/s³ at 0.25 ms, below the configuration's floor of 2e-9 mm,
+// motion::kMinJerkStep_mm, since it was raised from 2e-10 mm: Otg1 is held to it there all the same),
 // such a jump was up to 9e-4 of it. The third differences of the cycle's positions around the landing
 // stay within the jerk and its rounding (a few ulps of the position); along the way, within the
 // rounding of evaluating the cubic phases at those positions (1e-3 of j·dt³ here).
