@@ -25,9 +25,7 @@ double box_distance(const core::Vec& p, const core::Vec& lo, const core::Vec& hi
 ProgrammedPath programmed_path(const program::Program& prog) {
   ProgrammedPath pp;
   const std::size_t n = prog.instructions.size();
-  pp.move_of.resize(n);
   pp.moves_upto.resize(n);
-  pp.at.resize(n + 1);
   pp.start = prog.start;
   pp.moves.reserve(n);  // one move an instruction, most of them
   // The same geometry the channel plans (curves expanded into several pieces), taken piece by piece
@@ -39,8 +37,7 @@ ProgrammedPath programmed_path(const program::Program& prog) {
   std::size_t next = 0;  // the next instruction to begin
   const auto begin_through = [&](std::size_t i) {
     for (; next <= i; ++next) {
-      if (next > 0) pp.moves_upto[next - 1] = pp.moves.size();
-      pp.at[next] = pos;
+      if (next > 0) pp.moves_upto[next - 1] = static_cast<std::uint32_t>(pp.moves.size());
       if (const auto* t = std::get_if<program::ToolSwitch>(&prog.instructions[next].op)) tool_on = t->on;
     }
   };
@@ -64,13 +61,11 @@ ProgrammedPath programmed_path(const program::Program& prog) {
       pp.curve_box.push_back(b);
     }
     pos = seg.end;
-    if (!pp.move_of[i]) pp.move_of[i] = pp.moves.size();
     pp.moves.push_back(m);
   });
   if (n > 0) {  // the rest, none with motion, and the last one's end
     begin_through(n - 1);
-    pp.at[n] = pos;
-    pp.moves_upto[n - 1] = pp.moves.size();
+    pp.moves_upto[n - 1] = static_cast<std::uint32_t>(pp.moves.size());
   }
   pp.end = pos;
   pp.along_mm.resize(pp.moves.size() + 1);
@@ -114,7 +109,7 @@ double ProgrammedPath::distance(const ProgrammedMove& m, const core::Vec& p, dou
 }
 
 std::pair<std::size_t, std::size_t> ProgrammedPath::moves_around(std::uint32_t tag, std::uint32_t tag_last) const {
-  const std::size_t first = *move_of[tag];
+  const std::size_t first = *move_of(tag);
   const std::uint32_t upto = std::max(tag, tag_last);
   const std::size_t last = std::max(first, (upto < moves_upto.size() ? moves_upto[upto] : moves.size()) - 1);
   std::size_t lo = first > 0 ? first - 1 : 0, hi = std::min(last + 1, moves.size() - 1);
@@ -129,7 +124,7 @@ std::pair<std::size_t, std::size_t> ProgrammedPath::moves_around(std::uint32_t t
 
 std::optional<std::size_t> ProgrammedPath::nearest_instruction(const core::Vec& p, std::uint32_t tag,
                                                                std::uint32_t tag_last) const {
-  if (tag >= move_of.size() || !move_of[tag]) return std::nullopt;
+  if (tag >= moves_upto.size() || !move_of(tag)) return std::nullopt;
   nearest_move_mm(p, moves_around(tag, tag_last), 0);
   return moves[hint_].instruction;
 }
@@ -158,13 +153,13 @@ double ProgrammedPath::nearest_move_mm(const core::Vec& p, std::pair<std::size_t
 }
 
 double ProgrammedPath::deviation_mm(const core::Vec& p, std::uint32_t tag, std::uint32_t tag_last, bool moving, double enough) const {
-  if (tag + 1 >= at.size()) return core::distance(p, end);
+  if (tag >= moves_upto.size()) return core::distance(p, end);
   // The segments of every piece of the instructions (a curve has several) and of the motions on
   // either side: a corner blend belongs to both, and a smoothing piece reaches into the line before.
   const auto from_moves = [&] { return nearest_move_mm(p, moves_around(tag, tag_last), enough); };
-  if (moving && move_of[tag]) return from_moves();
+  if (moving && move_of(tag)) return from_moves();
   // At rest: where the instruction began or ended; a merged line ends where its last one does.
-  const std::uint32_t last = std::max(tag, tag_last) + 1 < at.size() ? std::max(tag, tag_last) : tag;
+  const std::uint32_t last = std::max(tag, tag_last) < moves_upto.size() ? std::max(tag, tag_last) : tag;
   return std::min({core::distance(p, before(tag)), core::distance(p, after(tag)), core::distance(p, after(last))});
 }
 

@@ -42,13 +42,19 @@ struct ProgrammedPath {
   std::vector<ProgrammedMove> moves;                // in program order
   std::vector<motion::Segment> curves;              // the moves that are not lines (ProgrammedMove::curve)
   std::vector<MoveGroup> curve_box;                 // their bounding boxes (Segment::bounds)
-  std::vector<std::optional<std::size_t>> move_of;  // instruction index → index into moves
-  std::vector<std::size_t> moves_upto;              // instruction index → moves of it and before it
-  // Position when instruction i starts (at[i]) and when it has finished (at[i + 1]: where the next
-  // one starts), i < the number of instructions.
-  std::vector<core::Vec> at;
-  const core::Vec& before(std::size_t i) const { return at[i]; }
-  const core::Vec& after(std::size_t i) const { return at[i + 1]; }
+  // Instruction index → the number of moves of it and the instructions before it. What else a
+  // report asks of an instruction is taken from it (a CAM program's per-instruction position and
+  // first move, 88 bytes a line, were kept apart before): the same values.
+  std::vector<std::uint32_t> moves_upto;
+  // The instruction's first move, nothing for an instruction without motion.
+  std::optional<std::size_t> move_of(std::size_t i) const {
+    const std::size_t first = i > 0 ? moves_upto[i - 1] : 0;
+    return moves_upto[i] > first ? std::optional<std::size_t>(first) : std::nullopt;
+  }
+  // Position when instruction i starts and when it has finished (where the next one starts), i < the
+  // number of instructions: the end of the last move before it, or the path's start.
+  const core::Vec& before(std::size_t i) const { return i > 0 ? after(i - 1) : start; }
+  const core::Vec& after(std::size_t i) const { return moves_upto[i] > 0 ? moves[moves_upto[i] - 1].end : start; }
   core::Vec start, end;
   std::vector<double> along_mm;  // path length from the start to the start of each move (and the end)
   // A setpoint on a smoothing piece may lie on moves a little before or after the instructions it

@@ -34,7 +34,7 @@ program::Program spiral(int n) {
 // further the moves starting within kReach_mm of path before it or after it (at most kReachMoves
 // more each way): the definition the search must meet.
 double brute_force(const report::ProgrammedPath& pp, const core::Vec& p, std::uint32_t tag) {
-  const std::size_t first = *pp.move_of[tag];
+  const std::size_t first = *pp.move_of(tag);
   std::size_t last = first;
   while (last + 1 < pp.moves.size() && pp.moves[last + 1].instruction <= tag) ++last;
   std::vector<double> along{0};
