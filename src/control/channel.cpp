@@ -71,7 +71,6 @@ void Channel::load(const program::Program& prog) {
   double run_feed = 0, run_tol = 0;
   std::vector<std::vector<motion::Segment>> run_out;
   std::vector<std::size_t> kept;
-  std::vector<core::Vec> thin_pts;
   const auto close_run = [&] {
     if (run_ins.size() >= 2) {
       motion::PolylineSmoothing cfg;
@@ -88,20 +87,22 @@ void Channel::load(const program::Program& prog) {
       const double eps = pc.smoothing_thin_share * run_tol;
       kept.clear();
       if (eps > 0) motion::thin_polyline(run_pts, eps, kThinLeg_mm, kMaxThinned, kept);
+      // The points smoothed are the kept ones, moved to the front of the run's own (kept rises, and
+      // kept[r] ≥ r): a run may be the whole program, and a copy of its points was 72 bytes a line more.
       if (kept.size() < run_pts.size() && !kept.empty()) {
         cfg.tolerance_mm -= eps;
+        for (std::size_t r = 0; r < kept.size(); ++r) run_pts[r] = run_pts[kept[r]];
+        run_pts.resize(kept.size());
       } else {
         kept.resize(run_pts.size());
         std::iota(kept.begin(), kept.end(), std::size_t{0});
       }
-      thin_pts.clear();
-      for (const std::size_t k : kept) thin_pts.push_back(run_pts[k]);
       // Leg r stands for lines kept[r] … kept[r + 1] − 1: smoothed, the first carries its segments
       // and the others none (executed with it); kept as a line, all stay as programmed (collinear
       // lines, which the planner merges). Each stretch the smoothing finishes (up to a sharp turn,
       // at most max_run_lines) is taken and freed at once: a whole program's pieces are not held
       // twice.
-      motion::smooth_polyline(thin_pts, cfg, run_out, [&](std::size_t from, std::size_t to) {
+      motion::smooth_polyline(run_pts, cfg, run_out, [&](std::size_t from, std::size_t to) {
         for (std::size_t r = from; r < to; ++r) {
           if (run_out[r].empty()) continue;
           add_pieces(run_ins[kept[r]], run_out[r].begin(), run_out[r].end());
