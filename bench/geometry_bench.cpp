@@ -9,6 +9,7 @@
 #include "motion/geometry/nurbs.hpp"
 #include "motion/geometry/polyline_smoothing.hpp"
 #include "motion/geometry/segment.hpp"
+#include "motion/geometry/segment_store.hpp"
 
 using namespace softmc;
 
@@ -143,3 +144,23 @@ static void BM_SmoothPolylineJogs(benchmark::State& state) {
   smooth_per_line(state, pts, 0.005);
 }
 BENCHMARK(BM_SmoothPolylineJogs)->Unit(benchmark::kMillisecond);
+
+// Reading a smoothed piece back from the Channel's store (SegmentStore::get, in the cycle at every
+// push of a piece to the planner): a wave of 0.1 mm lines in X and Z, its cubics read in turn.
+static void BM_SegmentStoreGet(benchmark::State& state) {
+  std::vector<motion::Vec> pts;
+  for (int k = 0; k <= 2000; ++k) pts.push_back(xy(0.1 * k, 0, -1 + 0.5 * std::sin(0.02 * k)));
+  std::vector<std::vector<motion::Segment>> lines;
+  motion::smooth_polyline(pts, motion::PolylineSmoothing{}, lines);
+  motion::SegmentStore store;
+  for (const auto& l : lines)
+    for (const auto& seg : l) store.push_back(seg);
+  motion::Segment out;
+  std::size_t i = 0;
+  for (auto _ : state) {
+    store.get(i, out);
+    benchmark::DoNotOptimize(out.length);
+    if (++i == store.size()) i = 0;
+  }
+}
+BENCHMARK(BM_SegmentStoreGet);

@@ -37,11 +37,11 @@ void Channel::load(const program::Program& prog) {
   // Each instruction's pieces go straight into one compact store, in program order (a run's lines
   // are smoothed when it closes, before the instruction that closed it adds its own): a Segment is
   // 1.5 kB, and a CAM program's pieces (one a line) were most of a 200 000-line run's memory; the
-  // store keeps what each piece's kind uses, on its axes only (about 590 bytes for a cubic on three
-  // axes). With smoothing, reserved at about one piece a line (a smoothed line's piece, and a stub
-  // at each end of a run), so a CAM program's store is not grown by doubling; without, only arcs
-  // and curves give pieces, and nothing is set aside for the lines (a review: address space a line
-  // that strict overcommit would refuse for a million).
+  // store keeps what each piece's kind uses, on its axes only (about 160 bytes for a cubic on three
+  // axes in its compact form), in chunks that are never moved. With smoothing, its offsets are
+  // reserved at about one piece a line (a smoothed line's piece, and a stub at each end of a run);
+  // without, only arcs and curves give pieces, and nothing is set aside for the lines (a review:
+  // address space a line that strict overcommit would refuse for a million).
   curve_segments_.clear();
   const auto& pc = planner_.config();
   const bool jerk = motion::jerk_mode(planner_.limits());

@@ -49,8 +49,9 @@ class Channel {
   // circle of 2 µm chords printed to 4 decimals ran 48 % slower on them (the rounding is curvature
   // noise on short pieces): 1.75 s, as unthinned, with 50 µm; 2.58 s with 20 µm.
   static constexpr double kThinLeg_mm = 0.05;
-  // What a smoothed piece takes in the SegmentStore: a cubic on three axes is about 590 bytes.
-  static constexpr std::size_t kPieceBytes = 600;
+  // What a smoothed piece takes in the SegmentStore: a cubic on three axes is about 160 bytes in
+  // its compact form (590 in the plain one).
+  static constexpr std::size_t kPieceBytes = 160;
   // Threads load() uses by default: each holds a stretch of up to 1 000 lines' pieces as whole
   // Segments (1.5 MB) while it smooths them.
   static constexpr std::size_t kMaxLoadThreads = 8;
@@ -136,7 +137,7 @@ class Channel {
   bool override_enabled_ = true;  // M48 (on) / M49 (off: the programmed feed, whatever the override)
   // Precomputed curve segments: curve_first_[i] .. curve_first_[i + 1] are instruction i's
   // (sized at load, one entry per instruction plus one).
-  motion::SegmentStore curve_segments_;  // compact: a third of a Segment's 1.5 kB a piece
+  motion::SegmentStore curve_segments_;  // compact: a tenth of a Segment's 1.5 kB a smoothed piece
   std::vector<std::uint32_t> curve_first_;
   std::vector<const char*> curve_error_;  // per instruction: why its curve could not be built, or null
   std::uint32_t curve_next_ = 0;           // next segment of the current curve to push

@@ -344,6 +344,8 @@ double gl4(const F& f, double a, double b) { return gauss(kGl4X, kGl4W, f, a, b)
 
 }  // namespace
 
+void speed2_from_controls(PolyCurve& c) { fill_speed2(c); }
+
 // rt-safe
 double PolyCurve::arc(double a, double b) const { return gl16(SpeedEval(*this), a, b); }
 

@@ -121,6 +121,10 @@ struct PolyCurve {
   double distance_to(const Vec& p, double enough = 0) const;
 };
 
+// Sets speed2, speed2_degree and has_speed2 from the control points and weights, as finalize does (a
+// compact store of pieces derives them so instead of keeping them). rt-safe.
+void speed2_from_controls(PolyCurve& c);
+
 // |C'|² = sp2 and |C''|² = acc2 at a stationary point: C' zero, or below a billionth of C'' (the
 // rounding of a rational piece whose end leg collapsed at a cusp: 1e-14 mm per unit of u against
 // ~1, whose direction is noise). The tangent is then along ±C''.

@@ -1,8 +1,10 @@
 // A compact, append-only store of Segments (see the header).
 #include "motion/geometry/segment_store.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cassert>
+#include <cmath>
 #include <cstring>
 #include <type_traits>
 
@@ -15,6 +17,7 @@ static_assert(sizeof(Segment) == 1528 && sizeof(PolyCurve) == 1160, "Segment cha
 namespace {
 
 constexpr std::uint8_t kWhole = 0xFF;  // the kind byte of a piece stored whole
+constexpr std::size_t kSlack = 8;      // readable bytes after a piece's last (Reader::diff)
 
 // The fields a piece of its kind uses, in the order they are stored; a count before what it counts.
 // io.vec stores a point's first io.axes coordinates, io.item any other value as its bytes, io.count
@@ -81,6 +84,66 @@ void fields(IO& io, S& s) {
   }
 }
 
+static_assert(std::endian::native == std::endian::little, "a difference's low bytes are written first");
+
+// What the compact form's reader predicts a value from (one compiled copy each, for writer and
+// reader alike: the same bits whatever the compiler would make of two inlined copies). A piece's
+// arc-length table is nearly linear in u: the next entry from the three before it (a quadratic's
+// extrapolation), the first from the chord.
+[[gnu::noinline]] double table_guess(const PolyCurve& p, std::size_t k) {
+  const auto& t = p.s_at;
+  if (k == 1) return core::distance(p.bez.hctrl[0], p.bez.hctrl[p.degree]) / static_cast<double>(kArcTableIntervals);
+  if (k == 2) return 2 * t[1];
+  if (k == 3) return 2 * t[2] - t[1];
+  if (k == 4) return 3 * (t[3] - t[2]) + t[1];
+  if (k == 5) return 4 * (t[4] + t[2]) - 6 * t[3] - t[1];
+  return 5 * (t[k - 1] - t[k - 4]) + 10 * (t[k - 3] - t[k - 2]) + t[k - 5];
+}
+// An inner control point as a line's: evenly along the chord.
+[[gnu::noinline]] double control_guess(const PolyCurve& p, std::size_t i, std::size_t a) {
+  const double c0 = p.bez.hctrl[0][a], cn = p.bez.hctrl[p.degree][a];
+  return c0 + (cn - c0) * static_cast<double>(i) / static_cast<double>(p.degree);
+}
+// Largest |dC_a/ds| as a line's: the axis's share of the chord.
+[[gnu::noinline]] double tangent_guess(const PolyCurve& p, std::size_t a) {
+  return std::abs(p.bez.hctrl[p.degree][a] - p.bez.hctrl[0][a]) / p.s_at[kArcTableIntervals];
+}
+
+// The compact form of a polynomial Bézier piece (a smoothed run's cubics, G5, G5.1): its weights
+// (all 1), its ends (its first and last control points), its length (the table's last entry) and
+// its |C'|² (speed2_from_controls) are not kept but derived as it is read, and every other double
+// after the first control point is kept as the bits in which it differs from a guess the reader
+// makes from what it has read (io.diff: a count of the bytes up to the highest differing one, two
+// to a byte, and those bytes): the last control point from the first, the inner ones from the chord,
+// a table entry from the entries before (table_guess), a bound from the ends. About a third of the
+// plain form.
+template <class IO, class S>
+void bezier_fields(IO& io, S& s) {
+  auto& p = s.poly;
+  io.item(p.degree);
+  const std::size_t n = std::min<std::size_t>(p.degree, kMaxBezierDegree);
+  io.vec(p.bez.hctrl[0]);
+  for (std::size_t a = 0; a < io.axes && n > 0; ++a) io.diff(p.bez.hctrl[n][a], p.bez.hctrl[0][a]);
+  for (std::size_t i = 1; i < n; ++i)
+    for (std::size_t a = 0; a < io.axes; ++a) io.diff(p.bez.hctrl[i][a], control_guess(p, i, a));
+  for (std::size_t k = 1; k <= kArcTableIntervals; ++k) io.diff(p.s_at[k], table_guess(p, k));
+  for (std::size_t a = 0; a < io.axes; ++a) {
+    const double c0 = p.bez.hctrl[0][a], cn = p.bez.hctrl[n][a];
+    io.diff(p.box_lo[a], std::min(c0, cn));
+    io.diff(p.box_hi[a], std::max(c0, cn));
+    io.diff(p.max_abs_tangent[a], tangent_guess(p, a));
+  }
+  io.item(p.max_curvature);
+  io.item(p.max_dcurvature);
+  io.item(p.gl8_ok);
+  io.count(p.n_moving);
+  for (std::size_t k = 0; k < p.n_moving && k < p.moving.size(); ++k) io.count(p.moving[k]);
+  io.item(p.n_poly_axes);
+  if (p.n_poly_axes != PolyCurve::kAxesUnknown)
+    for (std::size_t k = 0; k < p.n_poly_axes && k < p.poly_axes.size(); ++k) io.item(p.poly_axes[k]);
+  io.derive(s);
+}
+
 // The axes a piece needs: up to its last coordinate whose bits are not all zero; and whether its
 // counts fit a byte.
 struct Scan {
@@ -110,6 +173,22 @@ struct Writer {
   }
   void count(std::size_t n) { out.push_back(static_cast<std::byte>(n)); }
   void newton(const PolyCurve&) {}
+  // x as its difference from the guess g: a count of bytes (half a byte, two to a byte), the bytes.
+  void diff(double x, double g) {
+    const std::uint64_t r = std::bit_cast<std::uint64_t>(x) ^ std::bit_cast<std::uint64_t>(g);
+    const auto nb = static_cast<unsigned>(r == 0 ? 0 : 8 - std::countl_zero(r) / 8);
+    if (half == kNone) {
+      half = out.size();
+      out.push_back(static_cast<std::byte>(nb));
+    } else {
+      out[half] |= static_cast<std::byte>(nb << 4);
+      half = kNone;
+    }
+    bytes(&r, nb);
+  }
+  void derive(const Segment&) {}
+  static constexpr std::size_t kNone = ~std::size_t{0};
+  std::size_t half = kNone;  // the count byte whose upper half is free
 };
 
 struct Reader {  // rt-safe
@@ -127,6 +206,36 @@ struct Reader {  // rt-safe
   void count(std::size_t& n) { n = static_cast<std::size_t>(*at++); }
   // A default Segment's union holds the Bézier data: a Newton graph's becomes the one in use.
   void newton(PolyCurve& p) { p.newton = PolyCurve::NewtonData{}; }
+  void diff(double& x, double g) {
+    unsigned nb;
+    if (!half) {
+      held = static_cast<unsigned>(*at++);
+      nb = held & 15u;
+      half = true;
+    } else {
+      nb = held >> 4;
+      half = false;
+    }
+    // Eight bytes read and the ones past the count masked off (every piece is followed by at least
+    // kSlack bytes: SegmentStore::push_back): one load instead of a copy of a variable length.
+    std::uint64_t r;
+    std::memcpy(&r, at, sizeof r);
+    r &= nb == 8 ? ~std::uint64_t{0} : (std::uint64_t{1} << (8 * nb)) - 1;
+    at += nb;
+    x = std::bit_cast<double>(std::bit_cast<std::uint64_t>(g) ^ r);
+  }
+  // What the compact form leaves out, from what it kept.
+  void derive(Segment& s) {
+    auto& p = s.poly;
+    const std::size_t n = std::min<std::size_t>(p.degree, kMaxBezierDegree);
+    for (std::size_t i = 0; i <= n; ++i) p.bez.w[i] = 1;
+    s.start = p.bez.hctrl[0];
+    s.end = p.bez.hctrl[n];
+    s.length = p.s_at[kArcTableIntervals];
+    speed2_from_controls(p);
+  }
+  unsigned held = 0;  // the count byte read last
+  bool half = false;  // its upper half not yet used
 };
 
 bool same(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
@@ -175,51 +284,86 @@ bool same_bits(const Segment& a, const Segment& b) {
 }
 
 void SegmentStore::clear() {
-  std::vector<std::byte>().swap(data_);
+  std::vector<std::unique_ptr<std::byte[]>>().swap(chunks_);
   std::vector<std::uint64_t>().swap(offset_);
-  whole_ = 0;
+  std::vector<std::byte>().swap(scratch_);
+  used_ = bytes_ = whole_ = compact_ = 0;
 }
 
 void SegmentStore::reserve(std::size_t segments, std::size_t bytes_each) {
   offset_.reserve(segments);
-  data_.reserve(segments * bytes_each);
+  chunks_.reserve(segments * bytes_each / kChunk + 1);
 }
 
-void SegmentStore::push_back(const Segment& s) {
-  const std::size_t at = data_.size();
-  offset_.push_back(at);
-  const auto kind = static_cast<std::uint8_t>(s.kind);
-  Scan scan;
-  const bool known = s.kind == SegmentKind::Line || s.kind == SegmentKind::Arc || s.kind == SegmentKind::Poly;
-  if (known) fields(scan, s);
-  if (known && scan.fits && kind != kWhole) {
-    data_.push_back(static_cast<std::byte>(kind));
-    data_.push_back(static_cast<std::byte>(scan.axes));
-    Writer w{data_, scan.axes};
-    fields(w, s);
-    Segment back;
-    get(offset_.size() - 1, back);
-    if (same_bits(back, s)) return;
-    data_.resize(at);  // something the kind does not use was set: kept whole
-  }
-  data_.push_back(static_cast<std::byte>(kWhole));
-  const auto* b = reinterpret_cast<const std::byte*>(&s);
-  data_.insert(data_.end(), b, b + sizeof(Segment));
-  ++whole_;
-}
+namespace {
+constexpr std::uint8_t kCompactBezier = 0xFE;  // the kind byte of a polynomial Bézier in the compact form
+}  // namespace
 
-// rt-safe
-void SegmentStore::get(std::size_t i, Segment& out) const {
-  const std::byte* p = data_.data() + offset_[i];
+// rt-safe: the piece encoded at p.
+void SegmentStore::decode(const std::byte* p, Segment& out) {
   const auto kind = static_cast<std::uint8_t>(p[0]);
   if (kind == kWhole) {
     std::memcpy(static_cast<void*>(&out), p + 1, sizeof(Segment));
     return;
   }
   out = Segment{};
-  out.kind = static_cast<SegmentKind>(kind);
   Reader r{p + 2, static_cast<std::size_t>(p[1])};
+  if (kind == kCompactBezier) {
+    out.kind = SegmentKind::Poly;
+    bezier_fields(r, out);
+    return;
+  }
+  out.kind = static_cast<SegmentKind>(kind);
   fields(r, out);
+}
+
+void SegmentStore::push_back(const Segment& s) {
+  auto& buf = scratch_;
+  Segment back;
+  const auto kind = static_cast<std::uint8_t>(s.kind);
+  Scan scan;
+  const bool known = s.kind == SegmentKind::Line || s.kind == SegmentKind::Arc || s.kind == SegmentKind::Poly;
+  if (known) fields(scan, s);
+  bool done = false;
+  if (known && scan.fits && s.kind == SegmentKind::Poly && s.poly.basis == PolyBasis::Bezier && s.poly.has_speed2) {
+    buf.assign({static_cast<std::byte>(kCompactBezier), static_cast<std::byte>(scan.axes)});
+    Writer w{buf, scan.axes};
+    bezier_fields(w, s);
+    const std::size_t size = buf.size();
+    buf.resize(size + kSlack);
+    decode(buf.data(), back);
+    buf.resize(size);
+    done = same_bits(back, s);
+    compact_ += done;
+  }
+  if (!done && known && scan.fits && kind != kWhole && kind != kCompactBezier) {
+    buf.assign({static_cast<std::byte>(kind), static_cast<std::byte>(scan.axes)});
+    Writer w{buf, scan.axes};
+    fields(w, s);
+    decode(buf.data(), back);
+    done = same_bits(back, s);
+  }
+  if (!done) {  // something the kind does not use was set: kept whole
+    const auto* b = reinterpret_cast<const std::byte*>(&s);
+    buf.assign(1, static_cast<std::byte>(kWhole));
+    buf.insert(buf.end(), b, b + sizeof(Segment));
+    ++whole_;
+  }
+  // Appended to the last chunk, or a new one: never moved, never more than a chunk set aside.
+  if (chunks_.empty() || used_ + buf.size() + kSlack > kChunk) {
+    chunks_.push_back(std::make_unique<std::byte[]>(kChunk));  // zeroed: the slack reads no garbage
+    used_ = 0;
+  }
+  offset_.push_back(((chunks_.size() - 1) << kChunkBits) | used_);
+  std::memcpy(chunks_.back().get() + used_, buf.data(), buf.size());
+  used_ += buf.size();
+  bytes_ += buf.size();
+}
+
+// rt-safe
+void SegmentStore::get(std::size_t i, Segment& out) const {
+  const std::uint64_t at = offset_[i];
+  decode(chunks_[at >> kChunkBits].get() + (at & (kChunk - 1)), out);
 }
 
 }  // namespace softmc::motion
