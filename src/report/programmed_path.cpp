@@ -2,6 +2,7 @@
 #include "report/programmed_path.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cassert>
 #include <cmath>
 #include <limits>
@@ -51,7 +52,6 @@ ProgrammedPath programmed_path(const program::Program& prog) {
     // A line starts where the walk stands (control::to_segment builds it from there): the move
     // before's end, which start_of gives back.
     assert(!m.line || seg.start == pos);
-    m.end = seg.end;
     m.length = seg.length;
     if (!m.line) {
       m.curve = static_cast<std::uint32_t>(pp.curves.size());
@@ -62,6 +62,7 @@ ProgrammedPath programmed_path(const program::Program& prog) {
     }
     pos = seg.end;
     pp.moves.push_back(m);
+    pp.push_end(seg.end);
   });
   if (n > 0) {  // the rest, none with motion, and the last one's end
     begin_through(n - 1);
@@ -89,23 +90,40 @@ ProgrammedPath programmed_path(const program::Program& prog) {
   return pp;
 }
 
+void ProgrammedPath::push_end(const core::Vec& e) {
+  std::size_t need = stride_;
+  for (std::size_t i = stride_; i < core::kMaxAxes; ++i)
+    if (std::bit_cast<std::uint64_t>(e[i]) != 0) need = i + 1;
+  if (need > stride_) {  // an axis no end used before: every end before it takes it as zero
+    const std::size_t n = moves.size() - 1;  // the ends kept so far
+    std::vector<double> wider;
+    wider.reserve(moves.capacity() * need);  // programmed_path reserves the moves: no growth by doubling
+    wider.resize(n * need, 0.0);
+    for (std::size_t m = 0; m < n; ++m)
+      for (std::size_t i = 0; i < stride_; ++i) wider[m * need + i] = ends_[m * stride_ + i];
+    ends_.swap(wider);
+    stride_ = need;
+  }
+  for (std::size_t i = 0; i < stride_; ++i) ends_.push_back(e[i]);
+}
+
 void ProgrammedPath::box(const ProgrammedMove& m, core::Vec& lo, core::Vec& hi) const {
   if (!m.line) {
     lo = curve_box[m.curve].lo;
     hi = curve_box[m.curve].hi;
     return;
   }
-  motion::line_bounds(start_of(m), m.end, lo, hi);
+  motion::line_bounds(start_of(m), end_of(m), lo, hi);
 }
 
 motion::Segment ProgrammedPath::segment(const ProgrammedMove& m) const {
-  return m.line ? motion::make_line(start_of(m), m.end) : curves[m.curve];
+  return m.line ? motion::make_line(start_of(m), end_of(m)) : curves[m.curve];
 }
 
 double ProgrammedPath::distance(const ProgrammedMove& m, const core::Vec& p, double enough) const {
   if (!m.line) return curves[m.curve].distance_to(p, enough);
-  const core::Vec& a = start_of(m);
-  return motion::line_distance(a, motion::line_direction(a, m.end, m.length), m.length, p);
+  const core::Vec a = start_of(m);
+  return motion::line_distance(a, motion::line_direction(a, end_of(m), m.length), m.length, p);
 }
 
 std::pair<std::size_t, std::size_t> ProgrammedPath::moves_around(std::uint32_t tag, std::uint32_t tag_last) const {

@@ -18,14 +18,14 @@ enum class MoveKind : std::uint8_t { Rapid, Feed, Cut };  // Cut = feed move wit
 // A line is kept as its end (a whole motion::Segment is 1.3 kB, most of it a curve's: a 200 000-line
 // CAM program's moves were 300 MB); its start is the move before's end (or the path's start), its
 // direction derived from both as motion::make_line derives it. Arcs and curves are a Segment in
-// ProgrammedPath::curves.
+// ProgrammedPath::curves. The end is ProgrammedPath::end_of: the path keeps the moves' ends on the
+// axes the program uses only (a Vec is nine coordinates, a CAM program's three).
 struct ProgrammedMove {
   std::uint32_t instruction = 0;  // index into Program::instructions
   std::uint32_t curve = 0;        // not a line: its index into ProgrammedPath::curves
   MoveKind kind = MoveKind::Feed;
   bool line = true;
   double length = 0;  // mm
-  core::Vec end;
   // (Its bounding box is ProgrammedPath::box: a line's from its ends, a curve's kept with it.)
 };
 
@@ -53,8 +53,8 @@ struct ProgrammedPath {
   }
   // Position when instruction i starts and when it has finished (where the next one starts), i < the
   // number of instructions: the end of the last move before it, or the path's start.
-  const core::Vec& before(std::size_t i) const { return i > 0 ? after(i - 1) : start; }
-  const core::Vec& after(std::size_t i) const { return moves_upto[i] > 0 ? moves[moves_upto[i] - 1].end : start; }
+  core::Vec before(std::size_t i) const { return i > 0 ? after(i - 1) : start; }
+  core::Vec after(std::size_t i) const { return moves_upto[i] > 0 ? end_of(moves[moves_upto[i] - 1]) : start; }
   core::Vec start, end;
   std::vector<double> along_mm;  // path length from the start to the start of each move (and the end)
   // A setpoint on a smoothing piece may lie on moves a little before or after the instructions it
@@ -68,9 +68,17 @@ struct ProgrammedPath {
 
   // Where move m starts: where the move before it ended (the path's start for the first). The
   // functions below take a move of `moves` (by reference, as iterating them gives it).
-  const core::Vec& start_of(const ProgrammedMove& m) const {
+  core::Vec start_of(const ProgrammedMove& m) const {
     assert(&m >= moves.data() && &m < moves.data() + moves.size());  // one of moves, not a copy
-    return &m == moves.data() ? start : (&m - 1)->end;
+    return &m == moves.data() ? start : end_of(*(&m - 1));
+  }
+  // Where move m ends, every coordinate as the walk's segment ended.
+  core::Vec end_of(const ProgrammedMove& m) const {
+    assert(&m >= moves.data() && &m < moves.data() + moves.size());
+    core::Vec e;
+    const double* p = ends_.data() + static_cast<std::size_t>(&m - moves.data()) * stride_;
+    for (std::size_t i = 0; i < stride_; ++i) e[i] = p[i];
+    return e;
   }
   // The move's bounding box (every point of it inside: p's distance from the box is a lower bound of
   // its distance from the move), as Segment::bounds gives it.
@@ -103,6 +111,12 @@ struct ProgrammedPath {
   // Least distance from p of moves[range.first..range.second], or any value ≤ enough once one is
   // found; hint_ is then the move it came from.
   double nearest_move_mm(const core::Vec& p, std::pair<std::size_t, std::size_t> range, double enough) const;
+  // Appends the end of the move just pushed to `moves`.
+  void push_end(const core::Vec& e);
+  // The moves' ends, stride_ coordinates each: the axes up to the last one any end has off zero (in
+  // its bits: a −0 is kept); the others are zero.
+  std::vector<double> ends_;
+  std::size_t stride_ = 0;
   mutable std::size_t hint_ = 0;  // the move found nearest last time
   friend ProgrammedPath programmed_path(const program::Program& prog);
 };

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <string>
@@ -141,4 +142,34 @@ TEST(ProgrammedPath, ALineKeptAsItsEndsMeasuresAsItsSegment) {
   EXPECT_EQ(lines, 5);  // the rapid, three lines and the zero-length one
   EXPECT_EQ(arcs, 1);
   EXPECT_EQ(pp.curves.size(), 1u);
+}
+
+// The moves' ends are kept on the axes the program uses only, widened when a later move first leaves
+// zero on another: every end and start comes back as the walk's segments have them, to the bit (a
+// −0 too), and an instruction's positions before and after are those ends.
+TEST(ProgrammedPath, EndsKeptOnTheAxesUsedComeBackBitForBit) {
+  auto r = program::iso::parse("G21 G90\nG0 X1\nG1 X2 F600\nG1 Y2\nG4 P1\nG1 Z-3\nG1 X0 Y0 Z0\nG1 X-0.0 Y0.5\nM30\n", "axes.ngc");
+  ASSERT_TRUE(r.program);
+  const auto pp = report::programmed_path(*r.program);
+  std::vector<motion::Segment> walk;
+  std::vector<std::uint32_t> of;
+  control::visit_program_geometry(*r.program, [&](std::uint32_t i, const motion::Segment& s) {
+    walk.push_back(s);
+    of.push_back(i);
+  });
+  ASSERT_EQ(walk.size(), pp.moves.size());
+  ASSERT_GE(walk.size(), 6u);
+  const auto same = [](const core::Vec& a, const core::Vec& b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+  for (std::size_t k = 0; k < pp.moves.size(); ++k) {
+    EXPECT_TRUE(same(pp.end_of(pp.moves[k]), walk[k].end)) << "move " << k;
+    EXPECT_TRUE(same(pp.start_of(pp.moves[k]), walk[k].start)) << "move " << k;
+    EXPECT_TRUE(same(pp.after(of[k]), walk[k].end)) << "move " << k;
+    EXPECT_TRUE(same(pp.before(of[k]), walk[k].start)) << "move " << k;
+    EXPECT_EQ(*pp.move_of(of[k]), k);
+  }
+  for (std::size_t i = 0; i < r.program->instructions.size(); ++i) {
+    if (program::is_motion(r.program->instructions[i].op)) continue;
+    EXPECT_FALSE(pp.move_of(i));
+    EXPECT_TRUE(same(pp.before(i), pp.after(i)));
+  }
 }
