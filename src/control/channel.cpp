@@ -58,7 +58,7 @@ void Channel::load(const program::Program& prog) {
     for (; first_set <= i; ++first_set) curve_first_[first_set] = static_cast<std::uint32_t>(curve_segments_.size());
     for (auto it = begin; it != end; ++it) curve_segments_.push_back(*it);
   };
-  curve_error_.assign(n, nullptr);
+  curve_error_.assign(n, motion::CurveError::Ok);
   precomputed_.assign(n, 0);
   const std::size_t threads =
       load_threads_ > 0 ? load_threads_ : std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, kMaxLoadThreads);
@@ -152,7 +152,7 @@ void Channel::load(const program::Program& prog) {
     } else if (is_curve(op)) {
       tmp.clear();
       if (const auto e = append_curve_segments(op, at, tmp); e != motion::CurveError::Ok) {
-        curve_error_[i] = motion::to_string(e);
+        curve_error_[i] = e;
         continue;
       }
       add_pieces(i, tmp.begin(), tmp.end());
@@ -322,7 +322,7 @@ void Channel::update(double dt_s) {
       continue;
     }
     if (is_curve(op) || precomputed_[pc_]) {
-      if (curve_error_[pc_]) return fail(curve_error_[pc_], motion::PlanResult::Infeasible);
+      if (curve_error_[pc_] != motion::CurveError::Ok) return fail(motion::to_string(curve_error_[pc_]), motion::PlanResult::Infeasible);
       if (!push_curve(budget)) return;  // wait for room (or a planning fault)
       ++pc_;
       continue;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "control/motion_signals.hpp"
+#include "motion/geometry/curve_result.hpp"
 #include "motion/geometry/segment_store.hpp"
 #include "motion/interp/interpolator.hpp"
 #include "motion/planner/planner.hpp"
@@ -139,7 +140,7 @@ class Channel {
   // (sized at load, one entry per instruction plus one).
   motion::SegmentStore curve_segments_;  // compact: a tenth of a Segment's 1.5 kB a smoothed piece
   std::vector<std::uint32_t> curve_first_;
-  std::vector<const char*> curve_error_;  // per instruction: why its curve could not be built, or null
+  std::vector<motion::CurveError> curve_error_;  // per instruction: why its curve could not be built (a byte, not a pointer)
   std::uint32_t curve_next_ = 0;           // next segment of the current curve to push
   std::uint64_t curves_at_cycle_ = 0;      // planner_.curves_tried() when this cycle's update began
   std::uint64_t blocks_at_cycle_ = 0;      // planner_.blocks_committed() likewise
