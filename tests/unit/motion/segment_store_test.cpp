@@ -235,3 +235,19 @@ TEST(SegmentStore, SmoothedCubicsAreKeptCompactAndComeBackBitForBit) {
   // 159 bytes a piece when written (590 in the plain form).
   EXPECT_LT(static_cast<double>(store.bytes()) / static_cast<double>(store.size()), 200.0);
 }
+
+// A Bézier whose start is not its first control point (nothing builds one, but a Segment may hold
+// it) cannot be derived in the compact form: it is kept in the plain form, not whole, and comes
+// back bit for bit.
+TEST(SegmentStore, WhatTheCompactFormCannotDeriveIsKeptPlain) {
+  Segment off = make_cubic_bezier(v3(0, 0, 0), v3(1, 2, 0), v3(3, 2, 0.5), v3(4, 0, 1));
+  off.start[0] = 1e-12;
+  Segment fine = make_cubic_bezier(v3(0, 0, 0), v3(1, 2, 0), v3(3, 2, 0.5), v3(4, 0, 1));
+  SegmentStore store;
+  store.push_back(off);
+  store.push_back(fine);
+  EXPECT_EQ(store.compact(), 1u);
+  EXPECT_EQ(store.whole(), 0u);
+  EXPECT_TRUE(same_bits(store[0], off));
+  EXPECT_TRUE(same_bits(store[1], fine));
+}
