@@ -189,7 +189,9 @@ TEST(GeometryBezier, T2_CuspIsHalvedAndStillMeasuredExactly) {
     total += out[i].length;
     // Pieces graded down to a nanometre next to the cusp have an axis flat within a nanometre,
     // collapsed onto its start (build): the next piece starts within that of this one's end.
-    if (i > 0) EXPECT_LE(core::distance(out[i - 1].end, out[i].start), 1e-9) << i;
+    if (i > 0) {
+      EXPECT_LE(core::distance(out[i - 1].end, out[i].start), 1e-9) << i;
+    }
   }
   const double ref = simpson([&](double u) { return cubic_speed(p, u); }, 0, 5.0 / 7) +
                      simpson([&](double u) { return cubic_speed(p, u); }, 5.0 / 7, 1);
@@ -534,7 +536,9 @@ TEST(GeometryBezier, T2_APieceIsGradedOnItsJerkTermToo) {
   for (std::size_t i = 0; i < out.size(); ++i) {
     length += out[i].length;
     at_caps += out[i].length * std::cbrt(out[i].poly.jerk_speed_term() / 10000);
-    if (i > 0) EXPECT_LE(core::distance(out[i - 1].end, out[i].start), 1e-9) << i;
+    if (i > 0) {
+      EXPECT_LE(core::distance(out[i - 1].end, out[i].start), 1e-9) << i;
+    }
   }
   EXPECT_EQ(out.front().start, p0);
   EXPECT_EQ(out.back().end, p3);

@@ -105,7 +105,9 @@ static void expect_pieces_on_de_boor(const CurveResult& r, const std::vector<cor
     return d;
   };
   for (std::size_t j = 0; j + 1 < spans.size(); ++j) {
-    if (j > 0) EXPECT_LT(nearest(nurbs_point(c, w, knots, degree, spans[j]), true), 1e-12) << "knot " << spans[j];
+    if (j > 0) {
+      EXPECT_LT(nearest(nurbs_point(c, w, knots, degree, spans[j]), true), 1e-12) << "knot " << spans[j];
+    }
     for (int i = 0; i <= 20; ++i)
       EXPECT_LT(nearest(nurbs_point(c, w, knots, degree, spans[j] + i / 20.0 * (spans[j + 1] - spans[j])), false), 1e-12)
           << "span " << j << " at " << i / 20.0;
@@ -176,7 +178,9 @@ TEST(GeometryNurbs, T2_ACuspTipIsNotSplitIntoHundredsOfPieces) {
   double total = 0;
   for (std::size_t i = 0; i < r.segments.size(); ++i) {
     total += r.segments[i].length;
-    if (i > 0) EXPECT_LE(core::distance(r.segments[i - 1].end, r.segments[i].start), 1e-9) << i;
+    if (i > 0) {
+      EXPECT_LE(core::distance(r.segments[i - 1].end, r.segments[i].start), 1e-9) << i;
+    }
   }
   EXPECT_NEAR(total, 1.4223787897, 1e-8);
 }
