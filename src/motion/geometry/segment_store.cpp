@@ -19,6 +19,18 @@ namespace {
 constexpr std::uint8_t kWhole = 0xFF;  // the kind byte of a piece stored whole
 constexpr std::size_t kSlack = 8;      // readable bytes after a piece's last (Reader::diff)
 
+// A Poly piece's last fields, the same in the plain and the compact form: which axes move and
+// which carry the polynomial.
+template <class IO, class P>
+void axes_fields(IO& io, P& p) {
+  io.item(p.gl8_ok);
+  io.count(p.n_moving);
+  for (std::size_t k = 0; k < p.n_moving && k < p.moving.size(); ++k) io.count(p.moving[k]);
+  io.item(p.n_poly_axes);
+  if (p.n_poly_axes != PolyCurve::kAxesUnknown)
+    for (std::size_t k = 0; k < p.n_poly_axes && k < p.poly_axes.size(); ++k) io.item(p.poly_axes[k]);
+}
+
 // The fields a piece of its kind uses, in the order they are stored; a count before what it counts.
 // io.vec stores a point's first io.axes coordinates, io.item any other value as its bytes, io.count
 // a count below 256 as one byte. One list for storing, reading back and scanning.
@@ -73,12 +85,7 @@ void fields(IO& io, S& s) {
       io.item(p.speed2_degree);
       if (p.has_speed2)
         for (std::size_t i = 0; i <= p.speed2_degree && i < p.speed2.size(); ++i) io.item(p.speed2[i]);
-      io.item(p.gl8_ok);
-      io.count(p.n_moving);
-      for (std::size_t k = 0; k < p.n_moving && k < p.moving.size(); ++k) io.count(p.moving[k]);
-      io.item(p.n_poly_axes);
-      if (p.n_poly_axes != PolyCurve::kAxesUnknown)
-        for (std::size_t k = 0; k < p.n_poly_axes && k < p.poly_axes.size(); ++k) io.item(p.poly_axes[k]);
+      axes_fields(io, p);
       break;
     }
   }
@@ -135,12 +142,7 @@ void bezier_fields(IO& io, S& s) {
   }
   io.item(p.max_curvature);
   io.item(p.max_dcurvature);
-  io.item(p.gl8_ok);
-  io.count(p.n_moving);
-  for (std::size_t k = 0; k < p.n_moving && k < p.moving.size(); ++k) io.count(p.moving[k]);
-  io.item(p.n_poly_axes);
-  if (p.n_poly_axes != PolyCurve::kAxesUnknown)
-    for (std::size_t k = 0; k < p.n_poly_axes && k < p.poly_axes.size(); ++k) io.item(p.poly_axes[k]);
+  axes_fields(io, p);
   io.derive(s);
 }
 
