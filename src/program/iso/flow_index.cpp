@@ -39,6 +39,7 @@ FlowIndex index_flow(const std::vector<std::string_view>& lines, std::vector<Ind
   const auto close_program = [&](std::size_t n, std::uint32_t m99_col) {
     const Pending p = *pending;
     pending.reset();
+    idx.rejected_programs.insert(p.number.name);  // until it is accepted below
     const std::string what = fmt::format("subprogram O{} (line {})", p.number.name, p.line + 1);
     if (stack.size() > p.depth) {
       const auto& t = idx.entries[stack.back().entry];
@@ -57,6 +58,7 @@ FlowIndex index_flow(const std::vector<std::string_view>& lines, std::vector<Ind
     idx.entry_of[p.line] = static_cast<std::uint32_t>(e + 1);
     idx.entry_of[n] = static_cast<std::uint32_t>(e + 2);
     idx.programs.emplace(p.number.name, e);
+    idx.rejected_programs.erase(p.number.name);
   };
   for (std::size_t n = 0; n < lines.size(); ++n) {
     auto o = scan_o_word(lines[n]);

@@ -6,6 +6,7 @@
 #include <string>
 #include <string_view>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "program/iso/lexer.hpp"
@@ -32,6 +33,7 @@ struct FlowIndex {
   std::unordered_map<std::string, std::size_t> subs;  // name → entry index of its "sub"
   // Fanuc-style subprograms (O1000 … M99, called by M98 P1000): number → entry index of its O line.
   std::unordered_map<std::string, std::size_t> programs;
+  std::unordered_set<std::string> rejected_programs;  // numbers whose definition had a structure error
 
   const OEntry* at(std::size_t line) const {
     return line < entry_of.size() && entry_of[line] ? &entries[entry_of[line] - 1] : nullptr;

@@ -107,7 +107,13 @@ std::optional<LineError> Exec::run() {
   // G20/G21, so "G20 F10" is 10 in/min.
   if (auto e = polar_words()) return e;  // LinuxCNC checks them when it reads the block
   if (b.units) st.units = b.units->value;
-  if (b.feed_mode) st.feed_mode = b.feed_mode->value;
+  if (b.feed_mode && b.feed_mode->value != st.feed_mode) {
+    // F means another thing in the other mode: it must be programmed again (LinuxCNC sets the feed
+    // to 0 at every G93/G94; softmc only where the mode changes, so a header's repeated G94 keeps F).
+    st.feed_mode = b.feed_mode->value;
+    st.feed_mm_s.reset();
+    st.feed_word = 0;
+  }
   st.feed_in_block = false;
   if (const auto& f = w('F')) {
     st.feed_word = f->value;
@@ -130,7 +136,9 @@ std::optional<LineError> Exec::non_motion_m_and_words() {
   if (b.spindle_mode) {
     const bool css = b.spindle_mode->value == 960;
     if (css && !b.has('S')) return error(b.spindle_mode->col, "G96 needs an S word: the surface speed");
-    st.css = css;  // modal: a later S alone is a surface speed too (LinuxCNC)
+    st.css = css;  // modal: a later S alone is a surface speed too (LinuxCNC), with the same D limit
+    const auto& d = w('D');
+    st.css_max_rpm = css && d ? d->value : 0.0;
   }
   if (const auto& s = w('S')) {
     SpindleSpeed sp;
@@ -138,7 +146,7 @@ std::optional<LineError> Exec::non_motion_m_and_words() {
     if (st.css) {
       sp.css = true;
       sp.surface_m_min = st.units == Units::Inch ? s->value * 0.3048 : s->value;  // ft/min → m/min
-      if (const auto& d = w('D')) sp.max_rpm = d->value;
+      sp.max_rpm = st.css_max_rpm;
     } else {
       sp.rpm = s->value;
     }

@@ -403,6 +403,7 @@ std::optional<ProgramNumber> scan_program_number(std::string_view s) {
 }
 
 std::uint32_t scan_m99(std::string_view s) {
+  if (s.find_first_of("Mm") == std::string_view::npos) return 0;  // most lines of a program: at once
   std::size_t first = 0;
   skip_spaces(s, first);
   if (first < s.size() && s[first] == '/') return 0;  // a block-delete line never ends a subprogram

@@ -42,6 +42,7 @@ struct ModalState {
 
   SpindleDir spindle = SpindleDir::Stopped;  // M3/M4 turn it, M5 and M19 stop it
   bool css = false;                          // G96 (constant surface speed) / G97
+  double css_max_rpm = 0;                    // G96 D (0: no limit), kept for later S words
   double spindle_speed = 0;                  // the last S as written (rpm, or the surface speed under G96)
   bool mist = false, flood = false;          // M7, M8 (M17 both) / M9
   bool feed_override = true;                 // M48 on / M49 off (G84 turns it off while tapping)

@@ -29,7 +29,7 @@ std::optional<std::string> Parameters::write(long long n, double v) {
 }
 
 namespace {
-constexpr const char* kPredefinedNames[] = {
+constexpr std::string_view kPredefinedNames[] = {
     "_x", "_y", "_z", "_a", "_b", "_c", "_u", "_v", "_w",
     "_abs_x", "_abs_y", "_abs_z", "_abs_a", "_abs_b", "_abs_c", "_abs_u", "_abs_v", "_abs_w",
     "_motion_mode", "_plane", "_ccomp", "_metric", "_imperial", "_absolute", "_incremental", "_inverse_time",
@@ -40,13 +40,17 @@ constexpr const char* kPredefinedNames[] = {
 static_assert(std::size(kPredefinedNames) == static_cast<std::size_t>(Predefined::Count));
 }  // namespace
 
-const char* predefined_name(Predefined p) { return kPredefinedNames[static_cast<std::size_t>(p)]; }
+std::string_view predefined_name(Predefined p) { return kPredefinedNames[static_cast<std::size_t>(p)]; }
 
 std::optional<Predefined> predefined_of(std::string_view name) {
   if (name.size() < 2 || name[0] != '_') return std::nullopt;
-  for (std::size_t i = 0; i < std::size(kPredefinedNames); ++i)
-    if (name == kPredefinedNames[i]) return static_cast<Predefined>(i);
-  return std::nullopt;
+  static const std::unordered_map<std::string_view, Predefined> kByName = [] {
+    std::unordered_map<std::string_view, Predefined> m;
+    for (std::size_t i = 0; i < std::size(kPredefinedNames); ++i) m.emplace(kPredefinedNames[i], static_cast<Predefined>(i));
+    return m;
+  }();
+  const auto it = kByName.find(name);
+  return it == kByName.end() ? std::nullopt : std::optional<Predefined>(it->second);
 }
 
 std::optional<std::string> Parameters::read_named(std::string_view name, double& out) const {
@@ -89,8 +93,10 @@ bool Parameters::exists(std::string_view name) const {
   return !read_named(name, ignored);
 }
 
-void Parameters::push_frame(const double* args, std::size_t n) {
+void Parameters::push_frame(const double* args, std::size_t n, bool numbered_shared) {
+  const std::size_t owner = numbered_shared ? frames_.back().numbered_owner : frames_.size();
   frames_.emplace_back();
+  frames_.back().numbered_owner = owner;
   for (std::size_t i = 0; i < n && i < kLocalParameters; ++i) frames_.back().local[i + 1] = args[i];
 }
 

@@ -47,7 +47,7 @@ enum class Predefined : std::uint8_t {
   CurrentTool, SelectedTool, CallLevel, RemapLevel, Line, Task, Count
 };
 // The name of each (without '#<' '>'), as LinuxCNC spells it.
-const char* predefined_name(Predefined p);
+std::string_view predefined_name(Predefined p);
 // The predefined parameter a (lower-case) name is, if any.
 std::optional<Predefined> predefined_of(std::string_view name);
 
@@ -62,9 +62,9 @@ class Parameters {
   std::optional<std::string> read(long long n, double& out) const;
   std::optional<std::string> write(long long n, double v);
   // Direct access for the interpreter's own bookkeeping (n in range).
-  double get(int n) const { return n <= kLocalParameters ? frames_.back().local[n] : numbered_[n]; }
+  double get(int n) const { return n <= kLocalParameters ? numbered_locals()[n] : numbered_[n]; }
   void set(int n, double v) {
-    if (n <= kLocalParameters) frames_.back().local[n] = v;
+    if (n <= kLocalParameters) numbered_locals()[n] = v;
     else numbered_[n] = v;
   }
 
@@ -77,8 +77,9 @@ class Parameters {
   void set_predefined(Predefined p, double v) { predefined_[static_cast<std::size_t>(p)] = v; }
   bool exists(std::string_view name) const;
 
-  // Subroutine calls: a fresh frame with args in #1…#n, dropped on return.
-  void push_frame(const double* args, std::size_t n);
+  // Subroutine calls: a fresh frame with args in #1…#n, dropped on return. An M98 subprogram's
+  // frame (`numbered_shared`) has named locals of its own but the caller's #1…#30 (LinuxCNC).
+  void push_frame(const double* args, std::size_t n, bool numbered_shared = false);
   void pop_frame();
   std::size_t depth() const { return frames_.size() - 1; }
 
@@ -89,7 +90,10 @@ class Parameters {
   struct Frame {
     std::array<double, kLocalParameters + 1> local{};
     std::vector<std::pair<std::string, double>> named;
+    std::size_t numbered_owner = 0;  // the frame whose #1…#30 this one uses (itself but in M98 frames)
   };
+  const std::array<double, kLocalParameters + 1>& numbered_locals() const { return frames_[frames_.back().numbered_owner].local; }
+  std::array<double, kLocalParameters + 1>& numbered_locals() { return frames_[frames_.back().numbered_owner].local; }
   std::vector<double> numbered_;
   std::vector<Frame> frames_;
   std::unordered_map<std::string, double> globals_;

@@ -108,8 +108,8 @@ struct LoopCount {
 struct CallFrame {
   std::size_t file = 0, return_line = 0;
   std::vector<LoopCount> loops;
-  // An M98 call of a Fanuc-style subprogram: no parameter scope of its own (#1… stay global, as on
-  // a Fanuc control), its O line, and the passes left including the present one (M98 L).
+  // An M98 call of a Fanuc-style subprogram: its named locals are its own, #1…#30 the caller's
+  // (LinuxCNC); its O line, and the passes left including the present one (M98 L).
   bool m98 = false;
   std::size_t program_line = 0;
   long long passes_left = 0;
@@ -246,6 +246,9 @@ class ProgramReader {
       // A '%' before any block opens the program; a later one closes it (the rest is not read) if
       // one opened it, and is an error if none did (rs274: "Bad character '%' used"); after M2/M30 it
       // is the tape's end as usual.
+      if (f == 0 && frames_.size() > 1)  // rs274: "Bad character '%' used"
+        return fail(f, pc, line, LineError{1, "'%' inside a subroutine or subprogram: '%' lines only open and close "
+                                              "the program"});
       if (f == 0 && frames_.size() == 1) {
         if (seen_block_ && !percent_open_ && !state_.ended)
           return fail(f, pc, line, LineError{1, "'%' closes the program, but it did not open with a '%' line"});
@@ -360,20 +363,31 @@ class ProgramReader {
   // Lexes a line with the parameters up to date. Only a line with a '#' can read a parameter, so
   // the position parameters (#5420…) are brought up to date only then, not after every block, and
   // the predefined named ones (#<_x>, …) only before a line that also has a '<'.
-  void lex(std::string_view line, std::size_t pc = 0) {
+  void lex(std::string_view line, std::size_t pc) {
     if (std::memchr(line.data(), '#', line.size())) {
       if (position_params_stale_) {
         update_position_parameters();
         position_params_stale_ = false;
         named_params_stale_ = true;
       }
-      if (std::memchr(line.data(), '<', line.size())) {
+      if (may_read_predefined(line)) {
         if (named_params_stale_) update_named_parameters();
         named_params_stale_ = false;
         params_.set_predefined(Predefined::Line, static_cast<double>(line_no(pc)));
       }
     }
     lex_line(line, params_, lexed_);
+  }
+
+  // Whether a line names a global (#<_…>, spaces allowed after '<'): only such a line may read a
+  // predefined parameter, so the 51 are worked out only before one.
+  static bool may_read_predefined(std::string_view line) {
+    for (std::size_t i = line.find('<'); i != std::string_view::npos; i = line.find('<', i + 1)) {
+      std::size_t k = i + 1;
+      while (k < line.size() && (line[k] == ' ' || line[k] == '\t')) ++k;
+      if (k < line.size() && line[k] == '_') return true;
+    }
+    return false;
   }
 
   // The current position in program units (#5420…, #<_x>…: LinuxCNC gives them in G20's inches).
@@ -406,7 +420,9 @@ class ProgramReader {
     flag(Predefined::UnitsPerRev, false);  // G95 is refused
     // G54 … G59 are 540 … 590, G59.1 … G59.3 are 591 … 593.
     set(Predefined::CoordSystem, st.coord_system <= 6 ? 530 + 10 * st.coord_system : 590 + (st.coord_system - 6));
-    flag(Predefined::ToolOffset, st.tool_length_on);
+    bool offset = false;  // LinuxCNC: a tool length offset other than zero is in effect (G43 with a zero one: 0)
+    for (const double t : st.tool.v) offset = offset || t != 0;
+    flag(Predefined::ToolOffset, offset);
     flag(Predefined::RetractRPlane, st.retract == Retract::RPlane);
     flag(Predefined::RetractOldZ, st.retract == Retract::OldZ);
     flag(Predefined::SpindleRpmMode, !st.css);
@@ -517,8 +533,17 @@ class ProgramReader {
     }
     seen_block_ = true;
     switch (e.o.keyword) {
-      case OKeyword::Sub:
-      case OKeyword::Program: pc = e.end + 1; return;  // a definition: skipped until called
+      case OKeyword::Sub: pc = e.end + 1; return;  // a definition: skipped until called
+      case OKeyword::Program:
+        // Met by the main program before its end: LinuxCNC runs these lines as main-program text (an
+        // O0001 … M99 main program, a subprogram put before M30); skipping them would move
+        // differently without a word.
+        add_error(f, pc, e.o.col, fmt::format("subprogram O{} (lines {}–{}) stands before the program's end: softmc "
+                                              "would skip it and LinuxCNC would run it here; put subprograms after "
+                                              "M2/M30 (and end a main program with M2/M30, not M99)",
+                                              e.o.name, pc + 1, e.end + 1));
+        pc = e.end + 1;
+        return;
       case OKeyword::ProgramEnd: m99(e, f, pc); return;
       case OKeyword::EndSub:
       case OKeyword::Return: {
@@ -729,16 +754,15 @@ class ProgramReader {
   void return_from_sub(std::size_t& f, std::size_t& pc) {
     f = frames_.back().file;
     pc = frames_.back().return_line;
-    const bool scoped = !frames_.back().m98;
     frames_.pop_back();
     named_params_stale_ = true;  // #<_call_level>
-    if (scoped) params_.pop_frame();
+    params_.pop_frame();
   }
 
   // ---- Fanuc-style subprograms: M98 P<n> [L<k>] calls O<n> … M99 ----
 
   // The subprogram M98 P names, in this file or the main one: P itself, else (P above 9999, no L)
-  // Fanuc's packed form P<passes><4-digit number>. False (reported) when there is none.
+  // Fanuc's packed form P<passes><4-digit number>. False when there is none (the caller reports it).
   bool find_program(std::size_t f, long long p, bool has_l, long long& passes, std::size_t& pf, std::size_t& line) {
     const auto look = [&](long long number) {
       const std::string name = std::to_string(number);
@@ -785,10 +809,14 @@ class ProgramReader {
                                                                                  "it (a whole number, 0 or more)", l->value)});
     long long passes = l ? static_cast<long long>(l->value) : 1;
     std::size_t pf = 0, def = 0;
-    if (!find_program(f, static_cast<long long>(p->value), l.has_value(), passes, pf, def))
+    if (!find_program(f, static_cast<long long>(p->value), l.has_value(), passes, pf, def)) {
+      if (files_[f]->flow.rejected_programs.count(std::to_string(static_cast<long long>(p->value))) ||
+          files_[0]->flow.rejected_programs.count(std::to_string(static_cast<long long>(p->value))))
+        return;  // its definition's error is reported already
       return fail(f, pc, line, LineError{p->col, fmt::format("M98 P{0}: subprogram O{0} is not in the program (a line "
                                                              "O{0} after the main program's first block, then its "
                                                              "blocks, then M99)", static_cast<long long>(p->value))});
+    }
     if (passes > static_cast<long long>(opt_.max_loop_iterations))
       return fail(f, pc, line, LineError{(l ? *l : *p).col, fmt::format("M98 runs the subprogram {} times, above the loop "
                                                                          "limit {}", passes, opt_.max_loop_iterations)});
@@ -805,6 +833,7 @@ class ProgramReader {
     frame.program_line = def;
     frame.passes_left = passes;
     frames_.push_back(std::move(frame));
+    params_.push_frame(nullptr, 0, true);  // named locals of its own, the caller's #1…#30
     named_params_stale_ = true;  // #<_call_level>
     jump_ = {pf, def + 1};
   }
@@ -816,6 +845,13 @@ class ProgramReader {
     lex(line, pc);
     if (lexed_.error) {
       fail(f, pc, line, std::move(*lexed_.error));
+      ++pc;
+      return;
+    }
+    if (aborts(f, pc)) return;
+    if (!lexed_.assignments.empty()) {
+      fail(f, pc, line, LineError{lexed_.assignments.front().col, "M99 stands alone on its line (with N): set "
+                                                                    "parameters on a line of their own"});
       ++pc;
       return;
     }

@@ -73,9 +73,9 @@ TEST(IsoFanucSubprograms, PackedPGivesPassesAndNumberAndNestedCallsReturnInOrder
   EXPECT_EQ(ends(h), (std::vector<core::Vec>{xyz(0, 0), xyz(7, 0)}));
 }
 
-TEST(IsoFanucSubprograms, ParametersAreGlobalAndL0RunsNothing) {
-  // M98 passes no arguments and opens no parameter scope (unlike o-word calls): #1 set in the
-  // subprogram is seen after it, and a counter counts its passes.
+TEST(IsoFanucSubprograms, NumberedParametersAreSharedNamedLocalsAreNotAndL0RunsNothing) {
+  // M98 passes no arguments: #1… are the caller's (a counter counts the passes), but a named local
+  // is the subprogram's own, as in LinuxCNC (rs274 -g: X4, then X1 Y5 from the second program).
   const auto p = parse_ok(
       "#1 = 0\n"
       "M98 P10 L4\n"
@@ -86,20 +86,35 @@ TEST(IsoFanucSubprograms, ParametersAreGlobalAndL0RunsNothing) {
       "#1 = [#1 + 1]\n"
       "M99\n");
   EXPECT_EQ(ends(p), std::vector<core::Vec>{xyz(4, 0)});
+  const auto q = parse_ok(
+      "G21 G90 F100\n"
+      "#<i> = 1\n"
+      "M98 P100\n"
+      "G1 X#<i>\n"
+      "M30\n"
+      "O100\n"
+      "#<i> = 5\n"
+      "G1 Y#<i>\n"
+      "M99\n");
+  EXPECT_EQ(ends(q), (std::vector<core::Vec>{xyz(0, 5), xyz(1, 5)}));
 }
 
-TEST(IsoFanucSubprograms, DefinitionsStandWhereverTheyAreAndAreSkippedThere) {
-  // A definition between blocks of the main program is skipped where it stands; a bare O line that
-  // no M99 closes (before the next one) stays a program number, as LinuxCNC reads it.
+TEST(IsoFanucSubprograms, ADefinitionBeforeTheProgramsEndIsAnError) {
+  // LinuxCNC runs such lines as part of the main program; softmc would skip them: refused rather
+  // than moved differently without a word. A main program ended by M99 is the usual case.
+  EXPECT_EQ(one_error("G21 G90\nO0001 (MAIN)\nG0 X10\nG1 X20 F100\nM99\n"),
+            "t.ngc:2:1: error: subprogram O1 (lines 2–5) stands before the program's end: softmc would skip it and "
+            "LinuxCNC would run it here; put subprograms after M2/M30 (and end a main program with M2/M30, not M99)");
+  // A bare O line that no M99 closes stays a program number, as LinuxCNC reads it.
   const auto p = parse_ok(
       "G0 X1\n"
-      "O500\n"
-      "G0 Y9\n"
-      "M99\n"
       "O600 (a number, no subprogram: no M99 follows)\n"
       "G0 X2\n"
       "M98 P500\n"
-      "M30\n");
+      "M30\n"
+      "O500\n"
+      "G0 Y9\n"
+      "M99\n");
   EXPECT_EQ(ends(p), (std::vector<core::Vec>{xyz(1, 0), xyz(2, 0), xyz(2, 9)}));
 }
 
@@ -120,6 +135,14 @@ TEST(IsoFanucSubprograms, BadCallsAndReturnsAreErrorsNamingTheWord) {
             "t.ngc:6:5: error: M99 P (return to a sequence number) is not supported: M99 returns after the M98");
   EXPECT_EQ(one_error("G0 X1\nM98 P100\nM30\nO100\nG0 X2\nG0 X3 M99\n"),
             "t.ngc:6:1: error: M99 stands alone on its line (with N): G0 is not allowed here");
+  // An assignment on the M99 line would be dropped (rs274 stops there too).
+  EXPECT_EQ(one_error("G0 X1\nM98 P100\nM30\nO100\nG0 X2\n#1=5 M99\n"),
+            "t.ngc:6:1: error: M99 stands alone on its line (with N): set parameters on a line of their own");
+  EXPECT_EQ(one_error("G0 X1\nM98 P100\nM30\nO100\n(ABORT, stop here) M99\n"),
+            "t.ngc:5:1: error: the program aborts here (ABORT): stop here");
+  // A '%' inside a subprogram (rs274: "Bad character '%' used").
+  EXPECT_EQ(one_error("G0 X1\nM98 P100\nM30\nO100\n%\nG0 X3\nM99\n"),
+            "t.ngc:5:1: error: '%' inside a subroutine or subprogram: '%' lines only open and close the program");
   // M99 in the main program would repeat it for ever on a Fanuc control.
   EXPECT_EQ(one_error("G0 X1\nM99\n"),
             "t.ngc:2:1: error: M99 outside a subprogram: M99 ends a subprogram (a line O<n> after the main program's "
@@ -131,10 +154,12 @@ TEST(IsoFanucSubprograms, BadCallsAndReturnsAreErrorsNamingTheWord) {
 }
 
 TEST(IsoFanucSubprograms, StructureErrorsAreFoundBeforeAnythingRuns) {
+  // The definition's error alone: no "not in the program" for the M98 that calls it.
   const auto open_if = parse_errors("G0 X1\nM98 P100\nM30\nO100\no1 if [1]\nG0 X2\nM99\no1 endif\n");
   EXPECT_NE(std::find(open_if.begin(), open_if.end(),
                       "t.ngc:7:1: error: M99 ends subprogram O100 (line 4) while o1 if (line 5) inside it is still open"),
             open_if.end());
+  for (const auto& e : open_if) EXPECT_EQ(e.find("is not in the program"), std::string::npos) << e;
   const auto twice = parse_errors("G0 X1\nM98 P100\nM30\nO100\nG0 X2\nM99\nO0100\nG0 X3\nM99\n");
   EXPECT_EQ(twice.front(), "t.ngc:7:1: error: subprogram O100 (line 7) is defined twice");
   const auto inside = parse_errors("G0 X1\no1 if [1]\nO100\nG0 X2\nM99\no1 endif\nM30\n");

@@ -80,3 +80,29 @@ TEST(IsoPredefinedParameters, TheyAreReadOnlyAndThePositionNumbersFollowTheUnits
   const auto g = parse_ok("#<_mine> = 4\n(DEBUG, #<_mine>)\n");
   EXPECT_EQ(messages(g), std::vector<std::string>{" 4.000000"});
 }
+
+TEST(IsoPredefinedParameters, ToolOffsetMeansANonZeroOffsetAndG96KeepsItsLimit) {
+  // rs274 -g: #<_tool_offset> is 0 under G43.1 Z0 and 1 under G43.1 Z5.
+  const auto p = parse_ok("G21\nG43.1 Z0\n(DEBUG, #<_tool_offset>)\nG43.1 Z5\n(DEBUG, #<_tool_offset>)\n");
+  EXPECT_EQ(messages(p), (std::vector<std::string>{" 0.000000", " 1.000000"}));
+  // G96 S200 D3000, then S300 alone: still a surface speed, still under 3000 rpm (rs274 keeps
+  // SET_SPINDLE_MODE(0 3000) and only sets the speed).
+  const auto g = parse_ok("G21\nG96 S200 D3000 M3\nS300\nG97 S1000\n");
+  std::vector<SpindleSpeed> s;
+  for (const auto& i : g.instructions)
+    if (const auto* sp = std::get_if<SpindleSpeed>(&i.op)) s.push_back(*sp);
+  ASSERT_EQ(s.size(), 3u);
+  EXPECT_TRUE(s[1].css);
+  EXPECT_EQ(s[1].surface_m_min, 300);
+  EXPECT_EQ(s[1].max_rpm, 3000);
+  EXPECT_FALSE(s[2].css);
+  EXPECT_EQ(s[2].rpm, 1000);
+}
+
+TEST(IsoPredefinedParameters, AFeedModeChangeNeedsANewFeed) {
+  // LinuxCNC sets the feed to 0 at G93/G94: after G93 … G94, "G1 X3" without F is refused
+  // ("Cannot do g1 with zero feed rate") and #<_feed> is 0. softmc does so where the mode changes.
+  const auto p = parse_ok("G21 G94 F300\nG1 X1\nG94\nG1 X2\nG93 G1 X3 F10\nG94\n(DEBUG, #<_feed>)\nG1 X4 F200\n");
+  EXPECT_EQ(messages(p), std::vector<std::string>{" 0.000000"});
+  EXPECT_EQ(one_error("G21 G94 F300\nG93 G1 X1 F10\nG94\nG1 X3\n").rfind("t.ngc:4:", 0), 0u);
+}
