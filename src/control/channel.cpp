@@ -50,7 +50,7 @@ void Channel::load(const program::Program& prog) {
     const auto lines = static_cast<std::size_t>(std::count_if(prog.instructions.begin(), prog.instructions.end(), [](const auto& ins) {
       return std::holds_alternative<program::Linear>(ins.op);
     }));
-    curve_segments_.reserve(lines + lines / 16 + 64, kPieceBytes);
+    curve_segments_.reserve(lines + lines / 16 + 64);
   }
   curve_first_.assign(n + 1, 0);
   std::size_t first_set = 0;  // curve_first_ is set for instructions below this

@@ -50,9 +50,6 @@ class Channel {
   // circle of 2 µm chords printed to 4 decimals ran 48 % slower on them (the rounding is curvature
   // noise on short pieces): 1.75 s, as unthinned, with 50 µm; 2.58 s with 20 µm.
   static constexpr double kThinLeg_mm = 0.05;
-  // What a smoothed piece takes in the SegmentStore: a cubic on three axes is about 160 bytes in
-  // its compact form (590 in the plain one).
-  static constexpr std::size_t kPieceBytes = 160;
   // Threads load() uses by default: each holds a stretch of up to 1 000 lines' pieces as whole
   // Segments (1.5 MB) while it smooths them.
   static constexpr std::size_t kMaxLoadThreads = 8;

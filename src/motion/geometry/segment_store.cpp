@@ -326,9 +326,8 @@ void SegmentStore::clear() {
   used_ = bytes_ = whole_ = compact_ = 0;
 }
 
-void SegmentStore::reserve(std::size_t segments, std::size_t bytes_each) {
+void SegmentStore::reserve(std::size_t segments) {
   offset_.reserve(segments);
-  chunks_.reserve(segments * bytes_each / kChunk + 1);
 }
 
 namespace {

@@ -32,7 +32,7 @@ class SegmentStore {
   // Not rt: drops everything and frees the memory.
   void clear();
   // Not rt: room for `segments` pieces (their offsets; the pieces' bytes come a chunk at a time).
-  void reserve(std::size_t segments, std::size_t bytes_each);
+  void reserve(std::size_t segments);
   // Not rt: appends a copy of s.
   void push_back(const Segment& s);
   std::size_t size() const { return offset_.size(); }

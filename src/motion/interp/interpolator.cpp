@@ -99,22 +99,20 @@ void Interpolator::replan(const Block& b, const Inputs& in) {
   started_ = true;
 }
 
-// rt-safe
-// rt-safe. The stop (P-5) is done: the window is dropped and the stop reported.
-void Interpolator::finish_stop() {
-  queue_.clear();
-  stop_ = StopKind::None;
-  stopped_ = true;
-}
-
 // rt-safe. At rest at the end of what there is to run (the window empty, or waiting for a block the
-// planner may still change): a stop asked for is done there.
+// planner may still change), or on the path where a stop has braked: a stop asked for (P-5) is done
+// there, the window dropped and the stop reported.
 const Setpoint& Interpolator::rest_at_window_end() {
-  if (stop_ != StopKind::None) finish_stop();
+  if (stop_ != StopKind::None) {
+    queue_.clear();
+    stop_ = StopKind::None;
+    stopped_ = true;
+  }
   rest_at_end();
   return sp_;
 }
 
+// rt-safe
 void Interpolator::rest_at_end() {
   sp_.vel = Vec{};
   sp_.acc = Vec{};
@@ -169,10 +167,7 @@ const Setpoint& Interpolator::step_trapezoid(double dt) {
       sp_.rapid = b.rapid;
       sp_.tag = b.tag;
       sp_.tag_last = b.tag_last;
-      if (stop_ != StopKind::None && st.v <= 0) {  // P-5: at rest on the path, the stop is done
-        finish_stop();
-        rest_at_end();
-      }
+      if (stop_ != StopKind::None && st.v <= 0) return rest_at_window_end();  // P-5: at rest on the path, done
       return sp_;
     }
     // The block ends within this cycle: its leftover time goes into the next one.

@@ -159,7 +159,6 @@ class Interpolator {
   static double ramp_acc(const TangentLaw& law, double dist, double v0, const Inputs& in);
   static VelocityRamp ramp_for(const Block& b, double dist, double v0, const Inputs& in);
   void rest_at_end();
-  void finish_stop();
   const Setpoint& rest_at_window_end();
   const Setpoint& step_jerk(double dt);
   const Setpoint& step_trapezoid(double dt);  // step() on a front block without a jerk limit

@@ -449,10 +449,7 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   sp_.rapid = b.rapid;
   sp_.tag = b.tag;
   sp_.tag_last = b.tag_last;
-  if (stop_ != StopKind::None && v_ <= 0 && a_ == 0) {  // P-5: at rest on the path, the stop is done
-    finish_stop();
-    rest_at_end();
-  }
+  if (stop_ != StopKind::None && v_ <= 0 && a_ == 0) return rest_at_window_end();  // P-5: at rest on the path, done
   return sp_;
 }
 

@@ -438,7 +438,7 @@ std::optional<LineError> Exec::arc(std::uint32_t col) {
   if (st.rotation_deg != 0 && st.plane != Plane::XY)
     return error(col, "arcs in G18/G19 on a rotated coordinate system are not supported");
   if (b.has(cn)) return error(b.word(cn)->col, fmt::format("{} word in a {} arc: the centre is given by {} and {}", cn,
-                                                            st.plane == Plane::XY ? "G17" : st.plane == Plane::XZ ? "G18" : "G19", c0, c1));
+                                                            plane_code(st.plane), c0, c1));
   const bool r_format = b.has('R');
   // Without either plane word a centre-format arc ends where it starts: a full circle (LinuxCNC 2.9's
   // rs274 takes `G2 I5 J0` so, and CAM posts write full circles that way); an R-format arc cannot.

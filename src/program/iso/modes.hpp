@@ -65,6 +65,10 @@ constexpr int motion_code10(Motion m) {
   return 800;
 }
 
+// G17, G18, G19 times ten (LinuxCNC's #<_plane>), and as written.
+constexpr int plane_code10(Plane p) { return p == Plane::XY ? 170 : p == Plane::XZ ? 180 : 190; }
+constexpr const char* plane_code(Plane p) { return p == Plane::XY ? "G17" : p == Plane::XZ ? "G18" : "G19"; }
+
 inline constexpr double kMmPerInch = 25.4;
 
 constexpr double mm_per_unit(Units u) { return u == Units::Inch ? kMmPerInch : 1.0; }

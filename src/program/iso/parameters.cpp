@@ -55,7 +55,10 @@ std::optional<Predefined> predefined_of(std::string_view name) {
 
 std::optional<std::string> Parameters::read_named(std::string_view name, double& out) const {
   if (const auto p = predefined_of(name)) {
-    out = predefined_[static_cast<std::size_t>(*p)];
+    const auto k = static_cast<std::size_t>(*p), x = static_cast<std::size_t>(Predefined::X);
+    if (k >= x && k < x + 9) out = numbered_[kCurrentPosition + static_cast<int>(k - x)];  // #<_x>… is #5420…
+    else if (*p == Predefined::CallLevel) out = static_cast<double>(depth());
+    else out = predefined_[k];
     return std::nullopt;
   }
   if (!name.empty() && name[0] == '_') {

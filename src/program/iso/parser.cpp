@@ -31,6 +31,7 @@
 #include "program/iso/interpreter.hpp"
 #include "program/iso/lexer.hpp"
 #include "program/iso/modal_state.hpp"
+#include "program/iso/predefined_params.hpp"
 
 namespace softmc::program::iso {
 namespace {
@@ -371,7 +372,7 @@ class ProgramReader {
         named_params_stale_ = true;
       }
       if (may_read_predefined(line)) {
-        if (named_params_stale_) update_named_parameters();
+        if (named_params_stale_) set_predefined_parameters(params_, state_);
         named_params_stale_ = false;
         params_.set_predefined(Predefined::Line, static_cast<double>(line_no(pc)));
       }
@@ -379,74 +380,8 @@ class ProgramReader {
     lex_line(line, params_, lexed_);
   }
 
-  // Whether a line names a global (#<_…>, spaces allowed after '<'): only such a line may read a
-  // predefined parameter, so the 51 are worked out only before one.
-  static bool may_read_predefined(std::string_view line) {
-    for (std::size_t i = line.find('<'); i != std::string_view::npos; i = line.find('<', i + 1)) {
-      std::size_t k = i + 1;
-      while (k < line.size() && (line[k] == ' ' || line[k] == '\t')) ++k;
-      if (k < line.size() && line[k] == '_') return true;
-    }
-    return false;
-  }
-
-  // The current position in program units (#5420…, #<_x>…: LinuxCNC gives them in G20's inches).
-  core::Vec program_units(core::Vec v) const {
-    const double k = mm_per_unit(state_.units);
-    for (std::size_t a = 0; a < core::kMaxAxes; ++a)
-      if (a < 3 || a > 5) v[a] /= k;
-    return v;
-  }
-
-  // LinuxCNC's predefined named parameters from the modal state (the values rs274 gives).
-  void update_named_parameters() {
-    const ModalState& st = state_;
-    const auto set = [&](Predefined p, double v) { params_.set_predefined(p, v); };
-    const auto flag = [&](Predefined p, bool on) { params_.set_predefined(p, on ? 1.0 : 0.0); };
-    const core::Vec prog = program_units(to_program(st, st.position)), mach = program_units(st.position);
-    for (std::size_t a = 0; a < core::kMaxAxes; ++a) {
-      set(static_cast<Predefined>(static_cast<std::size_t>(Predefined::X) + a), prog[a]);
-      set(static_cast<Predefined>(static_cast<std::size_t>(Predefined::AbsX) + a), mach[a]);
-    }
-    set(Predefined::MotionMode, motion_code10(st.motion));
-    set(Predefined::Plane, st.plane == Plane::XY ? 170 : st.plane == Plane::XZ ? 180 : 190);
-    set(Predefined::Ccomp, st.comp == Comp::Left ? 410 : st.comp == Comp::Right ? 420 : 400);
-    flag(Predefined::Metric, st.units == Units::Mm);
-    flag(Predefined::Imperial, st.units == Units::Inch);
-    flag(Predefined::Absolute, st.distance == Distance::Absolute);
-    flag(Predefined::Incremental, st.distance == Distance::Incremental);
-    flag(Predefined::InverseTime, st.feed_mode == FeedMode::InverseTime);
-    flag(Predefined::UnitsPerMinute, st.feed_mode == FeedMode::PerMinute);
-    flag(Predefined::UnitsPerRev, false);  // G95 is refused
-    // G54 … G59 are 540 … 590, G59.1 … G59.3 are 591 … 593.
-    set(Predefined::CoordSystem, st.coord_system <= 6 ? 530 + 10 * st.coord_system : 590 + (st.coord_system - 6));
-    bool offset = false;  // LinuxCNC: a tool length offset other than zero is in effect (G43 with a zero one: 0)
-    for (const double t : st.tool.v) offset = offset || t != 0;
-    flag(Predefined::ToolOffset, offset);
-    flag(Predefined::RetractRPlane, st.retract == Retract::RPlane);
-    flag(Predefined::RetractOldZ, st.retract == Retract::OldZ);
-    flag(Predefined::SpindleRpmMode, !st.css);
-    flag(Predefined::SpindleCssMode, st.css);
-    flag(Predefined::IjkAbsoluteMode, st.arc_distance == Distance::Absolute);
-    flag(Predefined::LatheDiameterMode, false);
-    flag(Predefined::LatheRadiusMode, true);
-    flag(Predefined::SpindleOn, st.spindle != SpindleDir::Stopped);
-    flag(Predefined::SpindleCw, st.spindle == SpindleDir::Cw);
-    flag(Predefined::Mist, st.mist);
-    flag(Predefined::Flood, st.flood);
-    flag(Predefined::SpeedOverride, st.feed_override);  // M48/M49 switch both
-    flag(Predefined::FeedOverride, st.feed_override);
-    set(Predefined::Feed, st.feed_word);
-    set(Predefined::Rpm, st.spindle_speed);
-    set(Predefined::CurrentTool, st.current_tool);
-    set(Predefined::SelectedTool, st.selected_tool);
-    set(Predefined::CallLevel, static_cast<double>(frames_.size() - 1));
-    set(Predefined::RemapLevel, 0);
-    flag(Predefined::Task, true);  // the interpretation is what runs, not a preview
-  }
-
   void update_position_parameters() {
-    const core::Vec p = program_units(to_program(state_, state_.position));
+    const core::Vec p = in_program_units(to_program(state_, state_.position), state_.units);
     for (std::size_t a = 0; a < core::kMaxAxes; ++a) params_.set(kCurrentPosition + static_cast<int>(a), p[a]);
     // #5400…#5410 describe the loaded tool as its table entry has it, whatever G43/G49 is in effect
     // (LinuxCNC set_tool_parameters: tool_table[0], the spindle; zeros with no tool loaded).
@@ -738,49 +673,61 @@ class ProgramReader {
       ++pc;
       return;
     }
-    if (frames_.size() > opt_.max_call_depth) {
-      add_error(f, pc, e.o.col, fmt::format("subroutine calls nested more than {} deep (endless recursion?)", opt_.max_call_depth));
-      done_ = true;
-      return;
-    }
+    if (!enter_call(f, pc, e.o.col, "subroutine", CallFrame{f, pc + 1, {}})) return;
     params_.write_named("_value_returned", 0);
     params_.push_frame(o.args.data(), o.args.size());
-    frames_.push_back(CallFrame{f, pc + 1, {}});
-    named_params_stale_ = true;  // #<_call_level>
     f = sf;
     pc = sl + 1;
+  }
+
+  // A call's frame, within the call depth (ParseOptions::max_call_depth); past it the program stops
+  // with an error (endless recursion) and false.
+  bool enter_call(std::size_t f, std::size_t pc, std::uint32_t col, const char* what, CallFrame frame) {
+    if (frames_.size() > opt_.max_call_depth) {
+      add_error(f, pc, col, fmt::format("{} calls nested more than {} deep (endless recursion?)", what, opt_.max_call_depth));
+      done_ = true;
+      return false;
+    }
+    frames_.push_back(std::move(frame));
+    return true;
   }
 
   void return_from_sub(std::size_t& f, std::size_t& pc) {
     f = frames_.back().file;
     pc = frames_.back().return_line;
     frames_.pop_back();
-    named_params_stale_ = true;  // #<_call_level>
     params_.pop_frame();
   }
 
   // ---- Fanuc-style subprograms: M98 P<n> [L<k>] calls O<n> … M99 ----
 
   // The subprogram M98 P names, in this file or the main one: P itself, else (P above 9999, no L)
-  // Fanuc's packed form P<passes><4-digit number>. False when there is none (the caller reports it).
-  bool find_program(std::size_t f, long long p, bool has_l, long long& passes, std::size_t& pf, std::size_t& line) {
+  // Fanuc's packed form P<passes><4-digit number>. Rejected: none found, but P names a definition
+  // whose structure error is reported already.
+  enum class Found : std::uint8_t { Yes, Rejected, No };
+  Found find_program(std::size_t f, long long p, bool has_l, long long& passes, std::size_t& pf, std::size_t& line) {
+    bool rejected = false;
     const auto look = [&](long long number) {
       const std::string name = std::to_string(number);
       for (const std::size_t i : {f, std::size_t{0}}) {
-        const auto it = files_[i]->flow.programs.find(name);
-        if (it == files_[i]->flow.programs.end()) continue;
+        const FlowIndex& flow = files_[i]->flow;
+        const auto it = flow.programs.find(name);
+        if (it == flow.programs.end()) {
+          rejected = rejected || (number == p && flow.rejected_programs.count(name));
+          continue;
+        }
         pf = i;
-        line = files_[i]->flow.entries[it->second].line;
+        line = flow.entries[it->second].line;
         return true;
       }
       return false;
     };
-    if (look(p)) return true;
+    if (look(p)) return Found::Yes;
     if (!has_l && p > 9999 && look(p % 10000)) {
       passes = p / 10000;
-      return true;
+      return Found::Yes;
     }
-    return false;
+    return rejected ? Found::Rejected : Found::No;
   }
 
   void call_m98(std::size_t f, std::size_t pc, const Word& m) {
@@ -800,7 +747,6 @@ class ProgramReader {
                                                                   : fmt::format("{}{:g}", w.letter, w.value))});
       }
     }
-    seen_block_ = true;
     const auto whole = [](const Word& w) { return w.value >= 0 && w.value == std::floor(w.value); };
     if (!p) return fail(f, pc, line, LineError{m.col, "M98 needs P: the number of the subprogram O<n> … M99 to call"});
     if (!whole(*p)) return fail(f, pc, line, LineError{p->col, fmt::format("M98 P{:g}: P is a subprogram number (a "
@@ -809,10 +755,9 @@ class ProgramReader {
                                                                                  "it (a whole number, 0 or more)", l->value)});
     long long passes = l ? static_cast<long long>(l->value) : 1;
     std::size_t pf = 0, def = 0;
-    if (!find_program(f, static_cast<long long>(p->value), l.has_value(), passes, pf, def)) {
-      if (files_[f]->flow.rejected_programs.count(std::to_string(static_cast<long long>(p->value))) ||
-          files_[0]->flow.rejected_programs.count(std::to_string(static_cast<long long>(p->value))))
-        return;  // its definition's error is reported already
+    const Found found = find_program(f, static_cast<long long>(p->value), l.has_value(), passes, pf, def);
+    if (found == Found::Rejected) return;  // its definition's error is reported already
+    if (found == Found::No) {
       return fail(f, pc, line, LineError{p->col, fmt::format("M98 P{0}: subprogram O{0} is not in the program (a line "
                                                              "O{0} after the main program's first block, then its "
                                                              "blocks, then M99)", static_cast<long long>(p->value))});
@@ -822,19 +767,12 @@ class ProgramReader {
                                                                          "limit {}", passes, opt_.max_loop_iterations)});
     emit_messages(f, pc, m.col);
     if (passes == 0) return;
-    if (frames_.size() > opt_.max_call_depth) {
-      add_error(f, pc, m.col, fmt::format("subprogram calls nested more than {} deep (endless recursion?)",
-                                          opt_.max_call_depth));
-      done_ = true;
-      return;
-    }
     CallFrame frame{f, pc + 1, {}};
     frame.m98 = true;
     frame.program_line = def;
     frame.passes_left = passes;
-    frames_.push_back(std::move(frame));
+    if (!enter_call(f, pc, m.col, "subprogram", std::move(frame))) return;
     params_.push_frame(nullptr, 0, true);  // named locals of its own, the caller's #1…#30
-    named_params_stale_ = true;  // #<_call_level>
     jump_ = {pf, def + 1};
   }
 

@@ -18,12 +18,6 @@
 
 namespace softmc::program::iso::detail {
 
-namespace {
-
-const char* plane_code(Plane p) { return p == Plane::XY ? "G17" : p == Plane::XZ ? "G18" : "G19"; }
-
-}  // namespace
-
 double polar_radians(double deg) { return deg * std::numbers::pi / 180.0; }  // LinuxCNC's D2R
 
 void polar_point(double& x, double& y, std::optional<double> r, std::optional<double> t) {
