@@ -239,8 +239,47 @@ void to_monomial(std::size_t n, std::array<double, kMaxBezierDegree + 1> b, std:
   }
 }
 
+// |C'|² of a polynomial Bézier of degree N over the given axes, its control points scaled by
+// `scale`: the sum of the squares of the axes' derivatives, each converted to monomials
+// (to_monomial's arithmetic, unrolled for the degree).
+template <std::size_t N>
+void speed2_over(PolyCurve& c, const std::uint8_t* axes, std::size_t n_axes, double scale) {
+  static_assert(N >= 1 && N <= kMaxBezierDegree);
+  for (std::size_t k = 0; k < n_axes; ++k) {
+    const std::size_t a = axes[k];
+    std::array<double, kMaxBezierDegree + 1> v{}, m{};
+    for (std::size_t i = 0; i <= N; ++i) v[i] = c.bez.hctrl[i][a] * scale;
+    to_monomial(N, v, m);
+    std::array<double, N> dc;  // C_a'(u) = Σ (j + 1)·m_{j+1}·u^j
+    for (std::size_t i = 0; i < N; ++i) dc[i] = static_cast<double>(i + 1) * m[i + 1];
+    for (std::size_t i = 0; i < N; ++i)
+      for (std::size_t j = 0; j < N; ++j) c.speed2[i + j] += dc[i] * dc[j];
+  }
+}
+
+}  // namespace
+
+// rt-safe (the store derives a compact piece's |C'|² with it as it reads the piece back).
+void speed2_over_axes(PolyCurve& c, const std::uint8_t* axes, std::size_t n_axes, double scale) {
+  c.speed2 = {};
+  const std::size_t n = c.degree;
+  switch (n) {
+    case 1: speed2_over<1>(c, axes, n_axes, scale); break;
+    case 2: speed2_over<2>(c, axes, n_axes, scale); break;
+    case 3: speed2_over<3>(c, axes, n_axes, scale); break;
+    case 4: speed2_over<4>(c, axes, n_axes, scale); break;
+    case 5: speed2_over<5>(c, axes, n_axes, scale); break;
+    default: break;  // degree 0: a point, no derivative
+  }
+  c.speed2_degree = static_cast<std::uint8_t>(n > 0 ? 2 * (n - 1) : 0);
+  c.has_speed2 = true;
+}
+
+namespace {
+
 // A polynomial Bézier's |C'|² as one polynomial of degree 2(n − 1): the sum over the moving axes of
 // the squares of their derivatives (PolyCurve::speed2; rational curves and Newton graphs: none).
+// The moving axes are poly_axes where finalize found them (weights of 1), else found here.
 void fill_speed2(PolyCurve& c) {
   c.speed2 = {};
   c.speed2_degree = 0;
@@ -251,20 +290,15 @@ void fill_speed2(PolyCurve& c) {
   for (std::size_t i = 1; i <= n; ++i)
     if (b.w[i] != b.w[0]) return;
   const double scale = 1.0 / b.w[0];
+  if (c.n_poly_axes != PolyCurve::kAxesUnknown) return speed2_over_axes(c, c.poly_axes.data(), c.n_poly_axes, scale);
+  std::array<std::uint8_t, core::kMaxAxes> moving{};
+  std::size_t count = 0;
   for (std::size_t a = 0; a < core::kMaxAxes; ++a) {
     bool moves = false;
     for (std::size_t i = 1; i <= n; ++i) moves = moves || b.hctrl[i][a] != b.hctrl[0][a];
-    if (!moves) continue;  // a constant coordinate has no derivative
-    std::array<double, kMaxBezierDegree + 1> v{}, m{};
-    for (std::size_t i = 0; i <= n; ++i) v[i] = b.hctrl[i][a] * scale;
-    to_monomial(n, v, m);
-    std::array<double, kMaxBezierDegree> dc{};  // C_a'(u) = Σ (j + 1)·m_{j+1}·u^j
-    for (std::size_t i = 0; i < n; ++i) dc[i] = static_cast<double>(i + 1) * m[i + 1];
-    for (std::size_t i = 0; i < n; ++i)
-      for (std::size_t k = 0; k < n; ++k) c.speed2[i + k] += dc[i] * dc[k];
+    if (moves) moving[count++] = static_cast<std::uint8_t>(a);  // a constant coordinate has no derivative
   }
-  c.speed2_degree = static_cast<std::uint8_t>(n > 0 ? 2 * (n - 1) : 0);
-  c.has_speed2 = true;
+  speed2_over_axes(c, moving.data(), count, scale);
 }
 
 // |C'(u)| for the integrals, the inner loop of s → u. A polynomial Bézier reads the curve's stored

@@ -124,6 +124,9 @@ struct PolyCurve {
 // Sets speed2, speed2_degree and has_speed2 from the control points and weights, as finalize does (a
 // compact store of pieces derives them so instead of keeping them). rt-safe.
 void speed2_from_controls(PolyCurve& c);
+// |C'|² of a polynomial Bézier (degree 0…5) from its control points scaled by `scale` over the given
+// axes (the moving ones, ascending): speed2, speed2_degree, has_speed2. rt-safe.
+void speed2_over_axes(PolyCurve& c, const std::uint8_t* axes, std::size_t n_axes, double scale);
 
 // |C'|² = sp2 and |C''|² = acc2 at a stationary point: C' zero, or below a billionth of C'' (the
 // rounding of a rational piece whose end leg collapsed at a cusp: 1e-14 mm per unit of u against

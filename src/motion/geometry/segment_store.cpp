@@ -193,33 +193,6 @@ struct Writer {
   std::size_t half = kNone;  // the count byte whose upper half is free
 };
 
-// speed2_from_controls of a polynomial piece of degree N, in its arithmetic, over the axes its
-// control points move (poly_axes: the axes it finds moving, in its order) instead of a test of all
-// nine: a third of the time of reading a piece back instead of two thirds. Its result is checked
-// with the rest of the piece as it is stored (a difference would keep the piece in the plain form).
-template <std::size_t N>
-void speed2_of(PolyCurve& p) {
-  static constexpr std::array<std::array<double, 6>, 6> kBinom{{
-      {1, 0, 0, 0, 0, 0}, {1, 1, 0, 0, 0, 0}, {1, 2, 1, 0, 0, 0}, {1, 3, 3, 1, 0, 0}, {1, 4, 6, 4, 1, 0}, {1, 5, 10, 10, 5, 1}}};
-  static_assert(N >= 1 && N <= kMaxBezierDegree && kMaxBezierDegree == 5);
-  p.speed2 = {};
-  for (std::size_t k = 0; k < p.n_poly_axes; ++k) {
-    const std::size_t a = p.poly_axes[k];
-    std::array<double, N + 1> b, m;
-    for (std::size_t i = 0; i <= N; ++i) b[i] = p.bez.hctrl[i][a] * 1.0;  // (the weight's scale)
-    for (std::size_t j = 0; j <= N; ++j) {  // Bernstein → monomial (poly_curve.cpp's to_monomial)
-      m[j] = kBinom[N][j] * b[0];
-      for (std::size_t i = 0; i + j < N; ++i) b[i] = b[i + 1] - b[i];
-    }
-    std::array<double, N> dc;
-    for (std::size_t i = 0; i < N; ++i) dc[i] = static_cast<double>(i + 1) * m[i + 1];
-    for (std::size_t i = 0; i < N; ++i)
-      for (std::size_t j = 0; j < N; ++j) p.speed2[i + j] += dc[i] * dc[j];
-  }
-  p.speed2_degree = static_cast<std::uint8_t>(2 * (N - 1));
-  p.has_speed2 = true;
-}
-
 struct Reader {  // rt-safe
   const std::byte* at;
   std::size_t axes;
@@ -261,14 +234,10 @@ struct Reader {  // rt-safe
     s.start = p.bez.hctrl[0];
     s.end = p.bez.hctrl[n];
     s.length = p.s_at[kArcTableIntervals];
-    switch (p.n_poly_axes == PolyCurve::kAxesUnknown ? 0 : n) {
-      case 1: speed2_of<1>(p); break;
-      case 2: speed2_of<2>(p); break;
-      case 3: speed2_of<3>(p); break;
-      case 4: speed2_of<4>(p); break;
-      case 5: speed2_of<5>(p); break;
-      default: speed2_from_controls(p);
-    }
+    // Over the axes the piece moves (poly_axes), as finalize derived it: checked with the rest of
+    // the piece as it is stored (a difference keeps it in the plain form).
+    if (p.n_poly_axes != PolyCurve::kAxesUnknown) speed2_over_axes(p, p.poly_axes.data(), p.n_poly_axes, 1.0);
+    else speed2_from_controls(p);
   }
   unsigned held = 0;  // the count byte read last
   bool half = false;  // its upper half not yet used
