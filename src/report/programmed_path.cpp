@@ -120,10 +120,16 @@ motion::Segment ProgrammedPath::segment(const ProgrammedMove& m) const {
   return m.line ? motion::make_line(start_of(m), end_of(m)) : curves[m.curve];
 }
 
+namespace {
+// Distance from p to a line move from a to b (its direction derived as set_line derives it).
+double line_move_distance(const core::Vec& a, const core::Vec& b, double length, const core::Vec& p) {
+  return motion::line_distance(a, motion::line_direction(a, b, length), length, p);
+}
+}  // namespace
+
 double ProgrammedPath::distance(const ProgrammedMove& m, const core::Vec& p, double enough) const {
   if (!m.line) return curves[m.curve].distance_to(p, enough);
-  const core::Vec a = start_of(m);
-  return motion::line_distance(a, motion::line_direction(a, end_of(m), m.length), m.length, p);
+  return line_move_distance(start_of(m), end_of(m), m.length, p);
 }
 
 std::pair<std::size_t, std::size_t> ProgrammedPath::moves_around(std::uint32_t tag, std::uint32_t tag_last) const {
@@ -154,9 +160,18 @@ double ProgrammedPath::nearest_move_mm(const core::Vec& p, std::pair<std::size_t
   const auto try_move = [&](std::size_t m) {
     const auto& mv = moves[m];
     core::Vec lo, hi;
-    box(mv, lo, hi);
+    if (!mv.line) {
+      box(mv, lo, hi);
+      if (box_distance(p, lo, hi) >= best) return;
+      const double d = distance(mv, p, enough);
+      if (d < best) best = d, best_m = m;
+      return;
+    }
+    // A line's ends are rebuilt from the kept ones (start_of, end_of): once for its box and distance.
+    const core::Vec a = start_of(mv), b = end_of(mv);
+    motion::line_bounds(a, b, lo, hi);
     if (box_distance(p, lo, hi) >= best) return;
-    const double d = distance(mv, p, enough);
+    const double d = line_move_distance(a, b, mv.length, p);
     if (d < best) best = d, best_m = m;
   };
   if (hint_ >= lo && hint_ <= hi) try_move(hint_);
