@@ -372,7 +372,7 @@ class ProgramReader {
         named_params_stale_ = true;
       }
       if (may_read_predefined(line)) {
-        if (named_params_stale_) set_predefined_parameters(params_, state_);
+        if (named_params_stale_) set_predefined_parameters(params_, state_, tool_position());
         named_params_stale_ = false;
         params_.set_predefined(Predefined::Line, static_cast<double>(line_no(pc)));
       }
@@ -380,8 +380,12 @@ class ProgramReader {
     lex_line(line, params_, lexed_);
   }
 
+  // Where the tool is: under cutter compensation the compensated end of the last move (the
+  // programmed end moved by the tool radius along its normal there), as LinuxCNC's #5420… give it.
+  const core::Vec& tool_position() const { return comp_.active() ? comp_.tool_position() : state_.position; }
+
   void update_position_parameters() {
-    const core::Vec p = in_program_units(to_program(state_, state_.position), state_.units);
+    const core::Vec p = in_program_units(to_program(state_, tool_position()), state_.units);
     for (std::size_t a = 0; a < core::kMaxAxes; ++a) params_.set(kCurrentPosition + static_cast<int>(a), p[a]);
     // #5400…#5410 describe the loaded tool as its table entry has it, whatever G43/G49 is in effect
     // (LinuxCNC set_tool_parameters: tool_table[0], the spindle; zeros with no tool loaded).

@@ -21,10 +21,10 @@ core::Vec in_program_units(core::Vec v, Units u) {
   return v;
 }
 
-void set_predefined_parameters(Parameters& params, const ModalState& st) {
+void set_predefined_parameters(Parameters& params, const ModalState& st, const core::Vec& tool) {
   const auto set = [&](Predefined p, double v) { params.set_predefined(p, v); };
   const auto flag = [&](Predefined p, bool on) { params.set_predefined(p, on ? 1.0 : 0.0); };
-  const core::Vec mach = in_program_units(st.position, st.units);
+  const core::Vec mach = in_program_units(tool, st.units);
   for (std::size_t a = 0; a < core::kMaxAxes; ++a)
     set(static_cast<Predefined>(static_cast<std::size_t>(Predefined::AbsX) + a), mach[a]);
   set(Predefined::MotionMode, motion_code10(st.motion));

@@ -18,8 +18,9 @@ bool may_read_predefined(std::string_view line);
 // in degrees): #5420…, #<_x>…, #<_abs_x>….
 core::Vec in_program_units(core::Vec v, Units u);
 
-// Sets every predefined parameter that the state gives. The current position (#<_x>…) and the
-// call level are answered by Parameters itself (from #5420… and its frames).
-void set_predefined_parameters(Parameters& params, const ModalState& st);
+// Sets every predefined parameter that the state gives; `tool` is where the tool is in machine
+// coordinates (under cutter compensation the offset point, not the programmed one). The current
+// position (#<_x>…) and the call level are answered by Parameters itself (from #5420… and its frames).
+void set_predefined_parameters(Parameters& params, const ModalState& st, const core::Vec& tool);
 
 }  // namespace softmc::program::iso

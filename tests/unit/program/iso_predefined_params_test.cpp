@@ -106,3 +106,30 @@ TEST(IsoPredefinedParameters, AFeedModeChangeNeedsANewFeed) {
   EXPECT_EQ(messages(p), std::vector<std::string>{" 0.000000"});
   EXPECT_EQ(one_error("G21 G94 F300\nG93 G1 X1 F10\nG94\nG1 X3\n").rfind("t.ngc:4:", 0), 0u);
 }
+
+// Under cutter compensation the position parameters give where the tool is: the programmed end
+// moved by the tool radius along the move's normal there (before the next move's corner is known),
+// as LinuxCNC's #5420… and #<_abs_x>… do. Expected values are rs274 -g's for the same program.
+TEST(IsoPredefinedParameters, PositionUnderCutterCompensationIsTheTools) {
+  const auto p = parse_ok(
+      "G20 G17 G90 G40 G55 G10 L2 P2 X1 Y2\n"
+      "G0 X0 Y0 Z1\n"
+      "G42.1 D0.5\n"
+      "G1 X3 Y0 F10\n"
+      "(DEBUG, #5420 #5421 #5422 #<_abs_x> #<_abs_y>)\n"
+      "G1 Z-0.1\n"
+      "(DEBUG, #5420 #5421 #5422)\n"
+      "G2 X3 Y-4 I0 J-2\n"
+      "(DEBUG, #5420 #5421)\n"
+      "G91 G1 X-3\n"
+      "(DEBUG, #5420 #5421 #<_x>)\n"
+      "G90 G40 G0 X0 Y0\n"
+      "(DEBUG, #5420 #5421)\n");
+  const std::vector<std::string> want = {
+      " 3.000000 -0.250000 1.000000 4.000000 1.750000",  // entry move: offset right of +X
+      " 3.000000 -0.250000 -0.100000",                   // a plunge keeps the offset point
+      " 3.000000 -3.750000",                             // inside the R2 arc, towards its centre
+      " 0.000000 -3.750000 0.000000",                    // G91 moves from the programmed point
+      " 0.000000 0.000000"};                             // G40: the programmed point again
+  EXPECT_EQ(messages(p), want);
+}
