@@ -133,7 +133,7 @@ int cmd_run(const std::string& path, const MachineArgs& margs, const std::string
   // The summary and the CSV are made row by row: only a plot keeps the trace in memory.
   report::SummaryBuilder builder(*prog, cfg, cfg.period_s, cfg.axis_mask());
   std::optional<report::TraceCsvWriter> csv;
-  if (!trace_csv.empty()) csv.emplace(trace_csv, cfg.axis_mask(), &*prog);
+  if (!trace_csv.empty()) csv.emplace(trace_csv, cfg.axis_mask(), builder.locations());
   opt.record = !plot.empty();
   opt.on_row = [&](const report::TraceRow& row) {
     builder.add(row);

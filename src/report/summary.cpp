@@ -42,11 +42,11 @@ nlohmann::ordered_json where_json(const Summary& s, const Where& w) {
 
 }  // namespace
 
-std::vector<core::SourceLoc> source_locations(const program::Program* prog) {
-  std::vector<core::SourceLoc> loc;
+SourceLocations source_locations(const program::Program* prog) {
+  auto loc = std::make_shared<std::vector<core::SourceLoc>>();
   if (!prog) return loc;
-  loc.reserve(prog->instructions.size());
-  for (const auto& ins : prog->instructions) loc.push_back(ins.loc);
+  loc->reserve(prog->instructions.size());
+  for (const auto& ins : prog->instructions) loc->push_back(ins.loc);
   return loc;
 }
 
@@ -81,8 +81,9 @@ void SummaryBuilder::add(const TraceRow& row) {
   const std::size_t r = rows_;
   const auto note = [&](Where& w) {
     w.t_s = row.t_s;
-    w.line = row.tag < loc_.size() ? loc_[row.tag].line : 0;
-    w.file = row.tag < loc_.size() ? loc_[row.tag].file : 0;
+    const auto& loc = *loc_;
+    w.line = row.tag < loc.size() ? loc[row.tag].line : 0;
+    w.file = row.tag < loc.size() ? loc[row.tag].file : 0;
   };
   // A new largest value, and where: the first row that reaches it.
   const auto raise = [&](double& max, double v, Where& w) {

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -52,20 +53,22 @@ struct Summary {
 
 // Computes every figure from the program (the programmed geometry) and the trace, row by row as
 // the simulation makes them: a run of hours need not keep its trace (230 B a cycle) in memory.
-// Each instruction's source location, by instruction index (the tag of a trace row): kept by the
-// summary and the trace writer so that neither needs the program to outlive it.
-std::vector<core::SourceLoc> source_locations(const program::Program* prog);
+// Each instruction's source location, by instruction index (the tag of a trace row): one copy shared
+// by the summary and the trace writer, so that neither needs the program to outlive it.
+using SourceLocations = std::shared_ptr<const std::vector<core::SourceLoc>>;
+SourceLocations source_locations(const program::Program* prog);
 
 class SummaryBuilder {
  public:
   SummaryBuilder(const program::Program& prog, const machine::MachineConfig& cfg, double period_s, core::AxisMask axes);
   void add(const TraceRow& row);
   Summary finish() const;
+  const SourceLocations& locations() const { return loc_; }  // for a trace writer of the same run
 
  private:
   Summary s_;
   ProgrammedPath path_;
-  std::vector<core::SourceLoc> loc_;  // each instruction's source location (Where)
+  SourceLocations loc_;  // each instruction's source location (Where)
   std::array<TraceRow, 3> last_{};  // the rows before, newest first
   std::size_t rows_ = 0;
 };
@@ -78,7 +81,8 @@ Summary summarize(const program::Program& prog, const machine::MachineConfig& cf
 // without a program). Throws std::runtime_error when the file cannot be written.
 class TraceCsvWriter {
  public:
-  TraceCsvWriter(const std::string& path, core::AxisMask axes, const program::Program* prog = nullptr);
+  // `loc` gives the line column (0 for every row without it).
+  TraceCsvWriter(const std::string& path, core::AxisMask axes, SourceLocations loc = nullptr);
   ~TraceCsvWriter();
   TraceCsvWriter(const TraceCsvWriter&) = delete;
   TraceCsvWriter& operator=(const TraceCsvWriter&) = delete;
@@ -91,7 +95,7 @@ class TraceCsvWriter {
   std::FILE* f_ = nullptr;
   std::array<std::size_t, core::kMaxAxes> axes_{};
   std::size_t n_axes_ = 0;
-  std::vector<core::SourceLoc> loc_;  // instruction → source location
+  SourceLocations loc_;  // instruction → source location
   fmt::memory_buffer buf_;
 };
 

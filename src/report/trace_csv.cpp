@@ -11,8 +11,8 @@
 
 namespace softmc::report {
 
-TraceCsvWriter::TraceCsvWriter(const std::string& path, core::AxisMask axes, const program::Program* prog)
-    : path_(path), loc_(source_locations(prog)) {
+TraceCsvWriter::TraceCsvWriter(const std::string& path, core::AxisMask axes, SourceLocations loc)
+    : path_(path), loc_(loc ? std::move(loc) : source_locations(nullptr)) {
   f_ = std::fopen(path.c_str(), "wb");
   if (!f_) throw std::runtime_error(fmt::format("cannot open trace CSV {}: {}", path, std::strerror(errno)));
   for (std::size_t i = 0; i < core::kMaxAxes; ++i)
@@ -43,7 +43,7 @@ void TraceCsvWriter::add(const TraceRow& r) {
   fmt::format_to(out, "{:.9g}", r.t_s);
   for (std::size_t k = 0; k < n_axes_; ++k)
     fmt::format_to(out, ",{:.9g},{:.9g},{:.9g}", r.cmd[axes_[k]], r.act[axes_[k]], r.vel[axes_[k]]);
-  fmt::format_to(out, ",{:.9g},{},{}\n", r.path_v, r.tool_on ? 1 : 0, r.tag < loc_.size() ? loc_[r.tag].line : 0u);
+  fmt::format_to(out, ",{:.9g},{},{}\n", r.path_v, r.tool_on ? 1 : 0, r.tag < loc_->size() ? (*loc_)[r.tag].line : 0u);
   if (buf_.size() >= kFlushBytes) flush();
 }
 
@@ -56,7 +56,7 @@ void TraceCsvWriter::close() {
 }
 
 void write_trace_csv(const std::string& path, const Trace& trace, const program::Program* prog) {
-  TraceCsvWriter w(path, trace.axes, prog);
+  TraceCsvWriter w(path, trace.axes, source_locations(prog));
   for (const TraceRow& r : trace.rows) w.add(r);
   w.close();
 }
