@@ -16,8 +16,8 @@
 #
 # --floor: the same programs, stimuli and machines, except that the period is 0.1, 0.25 or 0.5 ms
 # and each jerk-limited axis's jerk j is drawn so that one cycle of it, j·dt³, lies log-uniformly in
-# [2e-9, 2e-8] mm (the jerk floor, motion::kMinJerkStep_mm, and up; the default mode never goes below
-# 1.6e-8). --floor-min / --floor-max change that range (the floor was 2e-10 mm before this fuzzer
+# [floor, 2e-8] mm (the floor is motion::kMinJerkStep_mm, read from src/motion/limits.hpp: 2e-9; the
+# default mode never goes below 1.6e-8). --floor-min / --floor-max change that range (the floor was 2e-10 mm before this fuzzer
 # measured it with --floor-min 2e-10: docs/planner.md, "Tiny jerk per cycle"). Each program's smallest j·dt³ is in its
 # failN.txt, and every program (failed or not) is one JSON line in runs.jsonl: its j·dt³, period,
 # each axis's jerk and measured jerk over its limit, and the failure, if any (docs/planner.md,
@@ -32,13 +32,21 @@ import subprocess
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def jerk_floor():
+    # The least j·dt³ the configuration accepts, from its one definition.
+    src = open(os.path.join(HERE, "..", "src", "motion", "limits.hpp")).read()
+    return float(re.search(r"kMinJerkStep_mm\s*=\s*([0-9.eE+-]+);", src).group(1))
+
+
 ap = argparse.ArgumentParser()
 ap.add_argument("--build", default=os.path.join(HERE, "..", "build"))
 ap.add_argument("--out", default="fuzz_run_out")
 ap.add_argument("--seed", type=int, default=1)
 ap.add_argument("--minutes", type=float, default=10)
 ap.add_argument("--floor", action="store_true", help="machines near the jerk floor (see above)")
-ap.add_argument("--floor-min", type=float, default=2e-9, help="least j·dt³ in mm of --floor")
+ap.add_argument("--floor-min", type=float, default=jerk_floor(), help="least j·dt³ in mm of --floor")
 ap.add_argument("--floor-max", type=float, default=2e-8, help="largest j·dt³ in mm of --floor")
 args = ap.parse_args()
 BIN = os.path.join(args.build, "apps", "softmc", "softmc")
