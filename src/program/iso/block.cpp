@@ -171,8 +171,8 @@ std::optional<LineError> apply_m(const Word& w, const MTable& mt, Block& b) {
   if (n > kMaxMNumber) return LineError{w.col, fmt::format("unknown M code M{} (M0 … M{})", n, kMaxMNumber)};
   switch (n) {
     case 67: case 68: return LineError{w.col, fmt::format("M{} (analog output) is not supported", n)};
-    case 70: case 71: case 72: case 73:
-      return LineError{w.col, fmt::format("M{} (save/restore modal state) is not supported", n)};
+    case 70: case 71: case 72: case 73:  // the parser runs them before the block is checked (modal_state_m)
+      return LineError{w.col, fmt::format("M{} (save/restore modal state) stands alone on its line", n)};
     case 98:  // the parser runs it before the block is checked (call_m98)
       return LineError{w.col, "M98 stands alone on its line, with P and L"};
     case 99:

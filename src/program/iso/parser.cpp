@@ -254,8 +254,11 @@ void ProgramReader::read_line(std::size_t f, std::size_t pc) {
     }
   }
   if (aborts(f, pc)) return;
-  for (const Word& w : lexed_.words)
-    if (w.letter == 'M' && w.value == 98) return call_m98(f, pc, w);
+  for (const Word& w : lexed_.words) {  // M98 and M70…M73 stand alone on their lines: they act on the reader
+    if (w.letter != 'M') continue;
+    if (w.value == 98) return call_m98(f, pc, w);
+    if (w.value == 70 || w.value == 71 || w.value == 72 || w.value == 73) return modal_state_m(f, pc, w);
+  }
   if (lexed_.words.empty()) {
     emit_messages(f, pc, lexed_.assignments.empty() ? 1 : lexed_.assignments.front().col);
     return;

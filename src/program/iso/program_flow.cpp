@@ -16,6 +16,7 @@
 
 #include "program/iso/flow_index.hpp"
 #include "program/iso/lexer.hpp"
+#include "program/iso/modal_restore.hpp"
 #include "program/iso/program_reader.hpp"
 
 namespace softmc::program::iso::detail {
@@ -319,6 +320,10 @@ bool ProgramReader::enter_call(std::size_t f, std::size_t pc, std::uint32_t col,
 }
 
 void ProgramReader::return_from_sub(std::size_t& f, std::size_t& pc) {
+  // M73: the caller's modes come back (not where a subroutine file ended without its endsub: that
+  // is reported already).
+  if (frames_.back().autorestore && frames_.back().saved_modes && pc < files_[f]->lines.size())
+    restore_modes(*frames_.back().saved_modes, f, pc, 1, "the return restores the modes M73 saved");
   f = frames_.back().file;
   pc = frames_.back().return_line;
   frames_.pop_back();
@@ -436,11 +441,94 @@ void ProgramReader::m99(const OEntry& e, std::size_t& f, std::size_t& pc) {
   }
   CallFrame& top = frames_.back();
   if (--top.passes_left > 0) {
+    // Each pass is a call of its own (LinuxCNC): M73's modes come back at its M99, and what M70/M73
+    // saved is gone for the next pass.
+    if (top.autorestore && top.saved_modes)
+      restore_modes(*top.saved_modes, f, pc, e.o.col, "the return restores the modes M73 saved");
+    top.saved_modes.reset();
+    top.autorestore = false;
     top.loops.clear();
     pc = top.program_line + 1;
     return;
   }
   return_from_sub(f, pc);
+}
+
+// ---- modal state: M70 save, M71 invalidate, M72 restore, M73 save and restore on return ----
+
+// LinuxCNC 2.9's M70…M73. Each call level keeps its own saved state (the main program one), so an
+// M72 restores only what M70/M73 saved at its own level. The line holds the M code alone (with N and
+// comments): LinuxCNC runs it at step 10 of a block's order, between the spindle and the coolant, an
+// order a restore in the middle of a block would make hard to read.
+void ProgramReader::modal_state_m(std::size_t f, std::size_t pc, const Word& m) {
+  const std::string_view line = files_[f]->lines[pc];
+  const int n = static_cast<int>(m.value);
+  for (const Word& w : lexed_.words) {
+    if (w.letter == 'N' || &w == &m) continue;
+    return fail(f, pc, line, LineError{w.col, fmt::format("M{} stands alone on its line (with N): {}{:g} is not allowed "
+                                                          "here", n, w.letter, w.value)});
+  }
+  if (state_.motion == Motion::Nurbs)
+    return fail(f, pc, line, LineError{m.col, fmt::format("M{} inside a G5.2 block: close it with G5.3 first", n)});
+  emit_messages(f, pc, m.col);
+  CallFrame& level = frames_.back();
+  switch (n) {
+    case 70:
+    case 73:
+      level.saved_modes = state_;
+      // M73 in the main program saves only: its end (M2/M30) restores nothing (LinuxCNC).
+      level.autorestore = level.autorestore || (n == 73 && frames_.size() > 1);
+      return;
+    case 71:
+      level.saved_modes.reset();
+      level.autorestore = false;
+      return;
+    default:
+      if (!level.saved_modes) {
+        add_error(f, pc, m.col, "M72 with no modal state saved at this call level: M70 or M73 first (a subroutine's "
+                                "saved state is its own, the main program's its own)");
+        return;
+      }
+      restore_modes(*level.saved_modes, f, pc, m.col, "M72");
+  }
+}
+
+// Brings the saved modes back (modal_restore.hpp) as the restore's blocks would, run on a copy of the
+// state first: an error (`what`: which restore it was) leaves the state and the program unchanged.
+bool ProgramReader::restore_modes(const ModalState& saved, std::size_t f, std::size_t pc, std::uint32_t col,
+                                  std::string_view what) {
+  const ModalRestore r = modal_restore_blocks(saved, state_, col);
+  if (r.error) {
+    add_error(f, pc, col, fmt::format("{}: {}", what, *r.error));
+    return false;
+  }
+  ModalState st = state_;
+  std::vector<BlockOutput> outs(r.blocks.size());
+  for (std::size_t i = 0; i < r.blocks.size(); ++i) {
+    Block b;
+    std::optional<LineError> e = check_block(r.blocks[i], mtable(), b);
+    if (!e) e = execute(b, st, params_, interp_, outs[i]);
+    if (e) {
+      add_error(f, pc, col, fmt::format("{}: {}", what, e->message));
+      return false;
+    }
+  }
+  std::vector<Op> exact;
+  if (auto e = restore_exact_modes(saved, st, exact)) {
+    add_error(f, pc, col, fmt::format("{}: {}", what, *e));
+    return false;
+  }
+  const core::Vec before = state_.position;
+  state_ = std::move(st);
+  const core::SourceLoc loc{static_cast<std::uint16_t>(f), line_no(pc), col};
+  for (auto& o : outs) {
+    out_ = std::move(o);
+    for (const auto& [num, v] : out_.param_writes) params_.set(num, v);
+    deliver(loc, before);
+  }
+  for (auto& op : exact) put(Instruction{loc, std::move(op)});
+  position_params_stale_ = true;
+  return true;
 }
 
 }  // namespace softmc::program::iso::detail

@@ -50,6 +50,10 @@ struct CallFrame {
   bool m98 = false;
   std::size_t program_line = 0;
   long long passes_left = 0;
+  // M70/M73: the modal state saved at this call level (each call its own, the main program one);
+  // M73 also restores it when the call returns (endsub, return, each pass's M99).
+  std::optional<ModalState> saved_modes;
+  bool autorestore = false;
 };
 
 // Reads one program (parser.cpp's diagram): the lines of its files, plain blocks through the
@@ -107,6 +111,11 @@ class ProgramReader {
   Found find_program(std::size_t f, long long p, bool has_l, long long& passes, std::size_t& pf, std::size_t& line);
   void call_m98(std::size_t f, std::size_t pc, const Word& m);
   void m99(const OEntry& e, std::size_t& f, std::size_t& pc);
+
+  // ---- modal state: M70 save, M71 invalidate, M72 restore, M73 save and restore on return (program_flow.cpp) ----
+
+  void modal_state_m(std::size_t f, std::size_t pc, const Word& m);
+  bool restore_modes(const ModalState& saved, std::size_t f, std::size_t pc, std::uint32_t col, std::string_view what);
 
   void finish();
 

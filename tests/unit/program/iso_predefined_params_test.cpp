@@ -11,18 +11,6 @@ using namespace softmc;
 using namespace softmc::program;
 using namespace softmc::program::iso::test;
 
-namespace {
-
-// The texts of the program's DEBUG/PRINT/MSG messages, in order.
-std::vector<std::string> messages(const Program& p) {
-  std::vector<std::string> out;
-  for (const auto& i : p.instructions)
-    if (const auto* m = std::get_if<Message>(&i.op)) out.push_back(m->text);
-  return out;
-}
-
-}  // namespace
-
 TEST(IsoPredefinedParameters, ModesPositionsAndWordsAsLinuxCncGivesThem) {
   const auto p = parse_ok(
       "G21 G90 G17 G10 L2 P2 X1 Y2 Z3\n"

@@ -69,6 +69,14 @@ inline std::vector<core::Vec> ends(const Program& p) {
   return out;
 }
 
+// The texts of the program's DEBUG/PRINT/MSG messages, in order.
+inline std::vector<std::string> messages(const Program& p) {
+  std::vector<std::string> out;
+  for (const auto& i : p.instructions)
+    if (const auto* m = std::get_if<Message>(&i.op)) out.push_back(m->text);
+  return out;
+}
+
 template <class T>
 const T& op_at(const Program& p, std::size_t i) {
   static const T kNone{};
