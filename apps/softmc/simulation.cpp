@@ -56,6 +56,7 @@ Simulation::Simulation(const program::Program& prog, const machine::MachineConfi
     channel_.apply(signals_);
     channel_.update(c.dt_s);
     interp_.step(c.dt_s);
+    channel_.sync_outputs();
   });
   exec_.add("write", [this](const runtime::CycleClock& c) {
     const auto& sp = interp_.setpoint();
@@ -142,6 +143,7 @@ report::TraceRow Simulation::row() const {
   r.moving = sp.moving;
   r.rapid = sp.rapid;
   r.tool_on = channel_.tool_on();
+  r.dout = channel_.digital_outputs();
   // From the cycle the brake ends in (the channel sees it in the next one) to the end of the run.
   r.stopped = (channel_.state() == control::ChannelState::Stopping || channel_.state() == control::ChannelState::Stopped) &&
               channel_.stopped_in_motion();

@@ -222,8 +222,20 @@ bool Channel::start(const core::Vec& from) {
   path_tolerance_mm_ = -1;
   dwell_left_s_ = 0;
   pops_at_cycle_ = planner_.queue().ring().pops();  // what braked before is not this path's pace
+  synced_n_ = 0;
+  sync_barrier_ = false;
   state_ = ChannelState::Running;
   return true;
+}
+
+// rt-safe
+void Channel::sync_outputs() {
+  const auto& sp = interp_.setpoint();
+  while (synced_n_ > 0 && sp.moving && sp.tag > synced_[synced_head_].after) {
+    set_output(synced_[synced_head_].index, synced_[synced_head_].on);
+    synced_head_ = (synced_head_ + 1) % synced_.size();
+    --synced_n_;
+  }
 }
 
 // rt-safe
@@ -324,6 +336,7 @@ void Channel::update(double dt_s) {
     if (is_curve(op) || precomputed_[pc_]) {
       if (curve_error_[pc_] != motion::CurveError::Ok) return fail(motion::to_string(curve_error_[pc_]), motion::PlanResult::Infeasible);
       if (!push_curve(budget)) return;  // wait for room (or a planning fault)
+      sync_barrier_ = false;
       ++pc_;
       continue;
     }
@@ -332,9 +345,23 @@ void Channel::update(double dt_s) {
       double feed = 0;
       if (const auto* l = std::get_if<program::Linear>(&op)) feed = l->feed_mm_s;
       if (const auto* a = std::get_if<program::Arc>(&op)) feed = a->feed_mm_s;
-      const auto r = planner_.push(request(feed, std::holds_alternative<program::Rapid>(op), true, pc_));
+      const auto r = planner_.push(request(feed, std::holds_alternative<program::Rapid>(op), !sync_barrier_, pc_));
       if (r != motion::PlanResult::Ok) return fail(motion::to_string(r), r);
+      sync_barrier_ = false;
       plan_pos_ = req_.geom.end;
+      ++pc_;
+      continue;
+    }
+    // M62/M63 (and their M function, for the PLC's record): the output waits for the motion after it
+    // to begin, and the path goes on through them (LinuxCNC's motion-synchronised outputs).
+    if (const auto* d = std::get_if<program::DigitalOutput>(&op); d && d->synced && synced_n_ < synced_.size()) {
+      synced_[(synced_head_ + synced_n_++) % synced_.size()] = {pc_, static_cast<std::uint8_t>(d->index), d->on};
+      sync_barrier_ = true;
+      ++pc_;
+      continue;
+    }
+    if (const auto* m = std::get_if<program::MFunction>(&op); m && (m->number == 62 || m->number == 63)) {
+      last_m_ = m->number;
       ++pc_;
       continue;
     }
@@ -359,6 +386,9 @@ void Channel::update(double dt_s) {
         override_enabled_ = m->number == 48;
         set_override();
       }
+      ++pc_;
+    } else if (const auto* o = std::get_if<program::DigitalOutput>(&op)) {
+      set_output(o->index, o->on);  // M64/M65 at once (an M62/M63 only when too many wait)
       ++pc_;
     } else if (std::holds_alternative<program::ProgramEnd>(op)) {
       tool_on_ = false;  // program end switches the tool off (RS274: M2/M30 imply M5)

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -54,6 +55,9 @@ class Channel {
   // Segments (1.5 MB) while it smooths them.
   static constexpr std::size_t kMaxLoadThreads = 8;
   static constexpr std::size_t kMaxThinned = 64;
+  // Outputs synchronised with motion (M62/M63) waiting for their motion to begin; one more is
+  // taken at an exact stop instead (the path stops there, then it switches).
+  static constexpr std::size_t kMaxSyncedOutputs = 64;
 
   Channel(motion::Planner& planner, motion::Interpolator& interp) : planner_(planner), interp_(interp) {}
 
@@ -71,6 +75,10 @@ class Channel {
   bool start(const core::Vec& from);
   // rt-safe: executes until the program blocks (queue full, waiting for motion, dwell) or the budget ends.
   void update(double dt_s);
+  // rt-safe: after the interpolator's step. The outputs M62/M63 set synchronised with motion take
+  // effect in the cycle the motion after them begins (its first setpoint), as LinuxCNC sets them at
+  // the start of the next move; an M62/M63 with no motion after it changes nothing.
+  void sync_outputs();
   // rt-safe: fault from outside (a drive, a switch): the channel stops executing.
   void fault(const char* message);
   // rt-safe: the PLC's motion signals, once per cycle before update() (P-2, P-5, P-8): they act on
@@ -81,6 +89,8 @@ class Channel {
   ChannelState state() const { return state_; }
   std::uint32_t pc() const { return pc_; }          // next instruction to execute
   bool tool_on() const { return tool_on_; }
+  // Digital outputs 0…63 (bit n: output n), as M62…M65 set them.
+  std::uint64_t digital_outputs() const { return dout_; }
   bool dwelling() const { return dwell_left_s_ > 0; }
   int last_m() const { return last_m_; }
   const char* fault_message() const { return fault_; }
@@ -124,6 +134,20 @@ class Channel {
   double dwell_left_s_ = 0;
   bool tool_on_ = false;
   int last_m_ = -1;
+  std::uint64_t dout_ = 0;
+  struct SyncedOutput {
+    std::uint32_t after = 0;  // the M62/M63's instruction: it switches once the path is past it
+    std::uint8_t index = 0;
+    bool on = false;
+  };
+  std::array<SyncedOutput, kMaxSyncedOutputs> synced_{};  // a ring: synced_head_, synced_n_
+  std::size_t synced_head_ = 0, synced_n_ = 0;
+  // The motion after an M62/M63 is not merged into the line before it (it must begin a block of
+  // its own, whose first setpoint switches the output).
+  bool sync_barrier_ = false;
+  void set_output(int index, bool on) {
+    if (index >= 0 && index < 64) dout_ = on ? dout_ | (std::uint64_t{1} << index) : dout_ & ~(std::uint64_t{1} << index);
+  }
   const char* fault_ = "";
   motion::PlanResult plan_error_ = motion::PlanResult::Ok;
   std::uint32_t fault_pc_ = 0;

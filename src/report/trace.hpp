@@ -20,6 +20,7 @@ struct TraceRow {
   bool moving = false;   // a motion segment is being interpolated
   bool rapid = false;    // ... and it is a rapid
   bool tool_on = false;  // torch/spindle output
+  std::uint64_t dout = 0;  // digital outputs 0…63 (bit n: output n; M62…M65)
   bool stopped = false;  // a P-5 stop has brought the path to rest here, inside a motion (the run ends)
 };
 

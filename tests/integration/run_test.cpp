@@ -686,3 +686,33 @@ TEST(Run, AHairShortOfTheEndSettlesNearTheJerkFloorToo) {
   ASSERT_FALSE(r.res.trace.rows.empty());
   EXPECT_EQ(r.res.trace.rows.back().cmd[1], 50.0);
 }
+
+// A laser's raster: M62/M63 switch the beam with each pass (outputs synchronised with motion). The
+// path runs exactly as without them, in jerk mode with its smoothing too, and output 0 is on over
+// the cutting passes only, switching in the first cycle of the move after each M62/M63.
+TEST(Run, P10_M62AndM63SwitchTheBeamWithoutStoppingThePath) {
+  std::string with = "G21 G90 G64 P0.05 F3000\nG0 X0 Y0\n", without = with;
+  for (int row = 0; row < 4; ++row) {
+    const double y = row * 0.5;
+    const std::string x0 = row % 2 ? "40" : "0", x1 = row % 2 ? "0" : "40";
+    with += fmt::format("G1 X{} Y{}\nM62 P0\nG1 X{}\nM63 P0\n", x0, y, x1);
+    without += fmt::format("G1 X{} Y{}\nG1 X{}\n", x0, y, x1);
+  }
+  with += "G1 X0 Y3\nM2\n";
+  without += "G1 X0 Y3\nM2\n";
+  for (const double jerk : {0.0, 20000.0}) {
+    auto cfg = machine::default_machine();
+    for (auto& a : cfg.axes) a.max_jerk_mm_s3 = jerk;
+    const auto a = run_source(with, "laser.ngc", cfg), b = run_source(without, "laser.ngc", cfg);
+    ASSERT_EQ(a.res.trace.rows.size(), b.res.trace.rows.size()) << "jerk " << jerk;
+    for (std::size_t r = 0; r < a.res.trace.rows.size(); ++r) {
+      ASSERT_EQ(a.res.trace.rows[r].cmd, b.res.trace.rows[r].cmd) << "jerk " << jerk << " row " << r;
+      // On while the setpoint lies on a cutting pass (the line after an M62), off elsewhere.
+      const auto& row = a.res.trace.rows[r];
+      const bool cutting = row.tag < a.prog.instructions.size() && row.moving && r > 0 &&
+                           std::holds_alternative<program::DigitalOutput>(a.prog.instructions[row.tag - 1].op) &&
+                           std::get<program::DigitalOutput>(a.prog.instructions[row.tag - 1].op).on;
+      EXPECT_EQ(row.dout, cutting ? 1u : 0u) << "jerk " << jerk << " row " << r << " tag " << row.tag;
+    }
+  }
+}

@@ -192,6 +192,7 @@ std::optional<LineError> Exec::non_motion_m_and_words() {
         const auto& p = w('P');
         if (!p || p->value < 0 || p->value != std::floor(p->value))
           return error(m.col, fmt::format("M{} needs a P word: the number of the digital output", m.number));
+        if (p->value > 63) return error(p->col, fmt::format("M{} P{:g}: digital outputs are numbered 0 … 63", m.number, p->value));
         mfn(m);
         emit(DigitalOutput{static_cast<int>(p->value), m.number == 62 || m.number == 64, m.number <= 63});
         continue;

@@ -44,6 +44,7 @@ struct Rig {
     ch.apply(sig);
     ch.update(0.001);
     interp.step(0.001);
+    ch.sync_outputs();
     ++cycles;
   }
   void run(int max = 1000000) {
@@ -719,4 +720,63 @@ TEST(Channel, P8_FeedAndRapidLimitsCapThePathSpeed) {
   s.cycle();
   EXPECT_GT(s.interp.setpoint().path_v, 10);
   EXPECT_LE(s.interp.setpoint().path_v, 10 + 1000 * 0.001 + 1e-9);
+}
+
+// M62/M63 (P-10 group 14, LinuxCNC's outputs synchronised with motion): the path goes on through
+// them at its feed, and each output switches in the cycle whose setpoint is the first on the motion
+// after it; an M62 with no motion after it never switches.
+TEST(Channel, P10_M62SwitchesWhereTheNextMoveBeginsWithoutAStop) {
+  auto p = prog({program::Linear{xy(10, 0), 50}, program::MFunction{62, 14}, program::DigitalOutput{3, true, true},
+                 program::Linear{xy(20, 0), 50}, program::MFunction{63, 14}, program::DigitalOutput{3, false, true},
+                 program::DigitalOutput{5, true, true}, program::Linear{xy(30, 0), 50},
+                 program::DigitalOutput{7, true, true}, program::ProgramEnd{}});
+  Rig r;
+  r.ch.load(p);
+  ASSERT_TRUE(r.ch.start({}));
+  double x_before = 0, slowest = 1e9;
+  std::vector<std::pair<double, std::uint64_t>> switches;  // (x before the cycle, x after), outputs
+  std::vector<double> at;
+  while (r.ch.state() == control::ChannelState::Running && r.cycles < 100000) {
+    const std::uint64_t before = r.ch.digital_outputs();
+    r.cycle();
+    const double x = r.interp.setpoint().pos[0];
+    if (x > 2 && x < 28) slowest = std::min(slowest, r.interp.setpoint().path_v);
+    if (r.ch.digital_outputs() != before) {
+      switches.push_back({x, r.ch.digital_outputs()});
+      at.push_back(x_before);
+    }
+    x_before = x;
+  }
+  EXPECT_EQ(r.ch.state(), control::ChannelState::Finished);
+  EXPECT_NEAR(slowest, 50, 1e-9);  // collinear lines at their feed: no stop at either M62/M63
+  ASSERT_EQ(switches.size(), 2u);
+  // Output 3 on in the first cycle past X10, off with 5 on in the first cycle past X20; 7 never.
+  EXPECT_LE(at[0], 10.0);
+  EXPECT_GT(switches[0].first, 10.0);
+  EXPECT_EQ(switches[0].second, std::uint64_t{1} << 3);
+  EXPECT_LE(at[1], 20.0);
+  EXPECT_GT(switches[1].first, 20.0);
+  EXPECT_EQ(switches[1].second, std::uint64_t{1} << 5);
+  EXPECT_EQ(r.ch.digital_outputs(), std::uint64_t{1} << 5);
+}
+
+// M64/M65 switch at once, so the motion before them ends first (LinuxCNC: they break blending).
+TEST(Channel, P10_M64SwitchesAtOnceAfterThePrecedingMotion) {
+  auto p = prog({program::Linear{xy(10, 0), 50}, program::DigitalOutput{1, true, false}, program::Linear{xy(20, 0), 50},
+                 program::ProgramEnd{}});
+  Rig r;
+  r.ch.load(p);
+  ASSERT_TRUE(r.ch.start({}));
+  bool switched = false;
+  while (r.ch.state() == control::ChannelState::Running && r.cycles < 100000) {
+    const motion::Setpoint before = r.interp.setpoint();
+    r.cycle();
+    if (r.ch.digital_outputs() == 2 && !switched) {
+      switched = true;
+      // The path had come to rest at X10 in the cycle before (the next move may begin in this one).
+      EXPECT_EQ(before.pos[0], 10.0);
+      EXPECT_EQ(before.path_v, 0.0);
+    }
+  }
+  EXPECT_TRUE(switched);
 }
