@@ -8,7 +8,7 @@
 #   bench/fuzz_run.py [--build DIR] [--out DIR] [--seed N] [--minutes M]
 #
 # Programs: CAM-like polylines (1 µm … 20 mm steps, gently turning runs), arcs, helices, G5 cubics,
-# rapids, M codes (M62/M63 too since 2026-12-05: the path runs through them) and dwells, feed changes, G61 / G64 P. Machines: per axis 50–500 mm/s, 200–10 000
+# rapids, M codes (M62/M63/M67 too since 2026-12-05: the path runs through them) and dwells, feed changes, G61 / G64 P. Machines: per axis 50–500 mm/s, 200–10 000
 # mm/s², jerk 0 (none) or 10³–10⁶ mm/s³, often the same on every axis and sometimes on some axes only;
 # look-ahead windows of 4–2 000 blocks; periods of 0.25–2 ms; smoothing off, on, or at 5°/45°; half
 # of the runs with a PLC stimulus (feed holds, overrides 0–200 %, axis enables dropping and coming
@@ -109,7 +109,7 @@ def prog_text(r):
                 lines.append(f"G3 X{nx:.4f} Y{ny:.4f} Z{nz:.4f} I{cx - x:.4f} J{cy - y:.4f}")
                 x, y, z = nx, ny, nz
         elif t < 0.93:
-            lines.append(r.choice(["M3", "M5", "G4 P0.01", "M8", "M9", "M62 P0", "M63 P0"]))
+            lines.append(r.choice(["M3", "M5", "G4 P0.01", "M8", "M9", "M62 P0", "M63 P0", "M67 E0 Q50"]))
         elif t < 0.97:
             lines.append(f"F{r.choice([60, 300, 1200, 3000, 6000, 12000])}")
         else:

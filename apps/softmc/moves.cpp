@@ -428,6 +428,14 @@ void write_one(Out& o, const Program& prog, const Instruction& ins, core::AxisMa
           boolean(o, op.on);
           o.key("synced");
           boolean(o, op.synced);
+        } else if constexpr (std::is_same_v<T, AnalogOutput>) {
+          type(o, "analog_output");
+          o.key("index");
+          o.integer(op.index);
+          o.key("value");
+          o.number(op.value);
+          o.key("synced");
+          boolean(o, op.synced);
         } else if constexpr (std::is_same_v<T, WaitInput>) {
           type(o, "wait_input");
           o.key("index");

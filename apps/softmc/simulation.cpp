@@ -144,6 +144,7 @@ report::TraceRow Simulation::row() const {
   r.rapid = sp.rapid;
   r.tool_on = channel_.tool_on();
   r.dout = channel_.digital_outputs();
+  r.aout = channel_.analog_outputs();
   // From the cycle the brake ends in (the channel sees it in the next one) to the end of the run.
   r.stopped = (channel_.state() == control::ChannelState::Stopping || channel_.state() == control::ChannelState::Stopped) &&
               channel_.stopped_in_motion();

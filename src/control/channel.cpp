@@ -228,11 +228,20 @@ bool Channel::start(const core::Vec& from) {
   return true;
 }
 
+// rt-safe: the output an M62/M63/M67 sets once the motion after it begins (none for anything else).
+std::optional<Channel::SyncedOutput> Channel::synced_output(const program::Op& op) const {
+  if (const auto* d = std::get_if<program::DigitalOutput>(&op); d && d->synced)
+    return SyncedOutput{pc_, static_cast<std::uint8_t>(d->index), false, d->on, 0};
+  if (const auto* a = std::get_if<program::AnalogOutput>(&op); a && a->synced)
+    return SyncedOutput{pc_, static_cast<std::uint8_t>(a->index), true, false, a->value};
+  return std::nullopt;
+}
+
 // rt-safe
 void Channel::sync_outputs() {
   const auto& sp = interp_.setpoint();
   while (synced_n_ > 0 && sp.moving && sp.tag > synced_[synced_head_].after) {
-    set_output(synced_[synced_head_].index, synced_[synced_head_].on);
+    set_output(synced_[synced_head_]);
     synced_head_ = (synced_head_ + 1) % synced_.size();
     --synced_n_;
   }
@@ -352,15 +361,15 @@ void Channel::update(double dt_s) {
       ++pc_;
       continue;
     }
-    // M62/M63 (and their M function, for the PLC's record): the output waits for the motion after it
-    // to begin, and the path goes on through them (LinuxCNC's motion-synchronised outputs).
-    if (const auto* d = std::get_if<program::DigitalOutput>(&op); d && d->synced && synced_n_ < synced_.size()) {
-      synced_[(synced_head_ + synced_n_++) % synced_.size()] = {pc_, static_cast<std::uint8_t>(d->index), d->on};
+    // M62/M63 and M67 (and their M function, for the PLC's record): the output waits for the motion
+    // after it to begin, and the path goes on through them (LinuxCNC's motion-synchronised outputs).
+    if (const auto o = synced_output(op); o && synced_n_ < synced_.size()) {
+      synced_[(synced_head_ + synced_n_++) % synced_.size()] = *o;
       sync_barrier_ = true;
       ++pc_;
       continue;
     }
-    if (const auto* m = std::get_if<program::MFunction>(&op); m && (m->number == 62 || m->number == 63)) {
+    if (const auto* m = std::get_if<program::MFunction>(&op); m && (m->number == 62 || m->number == 63 || m->number == 67)) {
       last_m_ = m->number;
       ++pc_;
       continue;
@@ -389,6 +398,9 @@ void Channel::update(double dt_s) {
       ++pc_;
     } else if (const auto* o = std::get_if<program::DigitalOutput>(&op)) {
       set_output(o->index, o->on);  // M64/M65 at once (an M62/M63 only when too many wait)
+      ++pc_;
+    } else if (const auto* a = std::get_if<program::AnalogOutput>(&op)) {
+      set_output(SyncedOutput{pc_, static_cast<std::uint8_t>(a->index), true, false, a->value});  // M68 (or M67)
       ++pc_;
     } else if (std::holds_alternative<program::ProgramEnd>(op)) {
       tool_on_ = false;  // program end switches the tool off (RS274: M2/M30 imply M5)

@@ -4,9 +4,10 @@
 // interpolator with them.
 #pragma once
 
-#include <cstddef>
 #include <array>
+#include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "control/motion_signals.hpp"
@@ -55,7 +56,7 @@ class Channel {
   // Segments (1.5 MB) while it smooths them.
   static constexpr std::size_t kMaxLoadThreads = 8;
   static constexpr std::size_t kMaxThinned = 64;
-  // Outputs synchronised with motion (M62/M63) waiting for their motion to begin; one more is
+  // Outputs synchronised with motion (M62/M63, M67) waiting for their motion to begin; one more is
   // taken at an exact stop instead (the path stops there, then it switches).
   static constexpr std::size_t kMaxSyncedOutputs = 64;
 
@@ -75,9 +76,9 @@ class Channel {
   bool start(const core::Vec& from);
   // rt-safe: executes until the program blocks (queue full, waiting for motion, dwell) or the budget ends.
   void update(double dt_s);
-  // rt-safe: after the interpolator's step. The outputs M62/M63 set synchronised with motion take
-  // effect in the cycle the motion after them begins (its first setpoint), as LinuxCNC sets them at
-  // the start of the next move; an M62/M63 with no motion after it changes nothing.
+  // rt-safe: after the interpolator's step. The outputs M62/M63 and M67 set synchronised with
+  // motion take effect in the cycle the motion after them begins (its first setpoint), as LinuxCNC
+  // sets them at the start of the next move; one with no motion after it changes nothing.
   void sync_outputs();
   // rt-safe: fault from outside (a drive, a switch): the channel stops executing.
   void fault(const char* message);
@@ -89,8 +90,9 @@ class Channel {
   ChannelState state() const { return state_; }
   std::uint32_t pc() const { return pc_; }          // next instruction to execute
   bool tool_on() const { return tool_on_; }
-  // Digital outputs 0…63 (bit n: output n), as M62…M65 set them.
+  // Digital outputs 0…63 (bit n: output n), as M62…M65 set them; analog outputs 0…3 (M67/M68).
   std::uint64_t digital_outputs() const { return dout_; }
+  const std::array<double, program::kAnalogOutputs>& analog_outputs() const { return aout_; }
   bool dwelling() const { return dwell_left_s_ > 0; }
   int last_m() const { return last_m_; }
   const char* fault_message() const { return fault_; }
@@ -135,10 +137,13 @@ class Channel {
   bool tool_on_ = false;
   int last_m_ = -1;
   std::uint64_t dout_ = 0;
+  std::array<double, program::kAnalogOutputs> aout_{};
   struct SyncedOutput {
-    std::uint32_t after = 0;  // the M62/M63's instruction: it switches once the path is past it
+    std::uint32_t after = 0;  // the M62/M63/M67's instruction: it switches once the path is past it
     std::uint8_t index = 0;
+    bool analog = false;      // M67: aout_[index] = value; else M62/M63: output index on or off
     bool on = false;
+    double value = 0;
   };
   std::array<SyncedOutput, kMaxSyncedOutputs> synced_{};  // a ring: synced_head_, synced_n_
   std::size_t synced_head_ = 0, synced_n_ = 0;
@@ -147,6 +152,11 @@ class Channel {
   bool sync_barrier_ = false;
   void set_output(int index, bool on) {
     if (index >= 0 && index < 64) dout_ = on ? dout_ | (std::uint64_t{1} << index) : dout_ & ~(std::uint64_t{1} << index);
+  }
+  std::optional<SyncedOutput> synced_output(const program::Op& op) const;
+  void set_output(const SyncedOutput& o) {
+    if (!o.analog) return set_output(o.index, o.on);
+    if (o.index < aout_.size()) aout_[o.index] = o.value;
   }
   const char* fault_ = "";
   motion::PlanResult plan_error_ = motion::PlanResult::Ok;

@@ -1,11 +1,13 @@
 // One row per interpolation cycle: what the simulation recorded, for summaries, CSV traces and plots.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "core/axes.hpp"
+#include "program/ir/iso_ops.hpp"
 
 namespace softmc::report {
 
@@ -21,6 +23,7 @@ struct TraceRow {
   bool rapid = false;    // ... and it is a rapid
   bool tool_on = false;  // torch/spindle output
   std::uint64_t dout = 0;  // digital outputs 0…63 (bit n: output n; M62…M65)
+  std::array<double, program::kAnalogOutputs> aout{};  // analog outputs 0…3 (M67/M68)
   bool stopped = false;  // a P-5 stop has brought the path to rest here, inside a motion (the run ends)
 };
 

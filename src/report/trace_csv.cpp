@@ -23,7 +23,9 @@ TraceCsvWriter::TraceCsvWriter(const std::string& path, core::AxisMask axes, Sou
     const char a = static_cast<char>(std::tolower(static_cast<unsigned char>(core::letter(axes_[k]))));
     fmt::format_to(out, ",{0}_cmd_mm,{0}_act_mm,{0}_vel_mm_s", a);
   }
-  fmt::format_to(out, ",path_v_mm_s,tool,line,dout\n");
+  fmt::format_to(out, ",path_v_mm_s,tool,line,dout");
+  for (int k = 0; k < program::kAnalogOutputs; ++k) fmt::format_to(out, ",aout{}", k);
+  fmt::format_to(out, "\n");
 }
 
 TraceCsvWriter::~TraceCsvWriter() {
@@ -43,8 +45,10 @@ void TraceCsvWriter::add(const TraceRow& r) {
   fmt::format_to(out, "{:.9g}", r.t_s);
   for (std::size_t k = 0; k < n_axes_; ++k)
     fmt::format_to(out, ",{:.9g},{:.9g},{:.9g}", r.cmd[axes_[k]], r.act[axes_[k]], r.vel[axes_[k]]);
-  fmt::format_to(out, ",{:.9g},{},{},{}\n", r.path_v, r.tool_on ? 1 : 0, r.tag < loc_->size() ? (*loc_)[r.tag].line : 0u,
+  fmt::format_to(out, ",{:.9g},{},{},{}", r.path_v, r.tool_on ? 1 : 0, r.tag < loc_->size() ? (*loc_)[r.tag].line : 0u,
                  r.dout);
+  for (const double a : r.aout) fmt::format_to(out, ",{:.9g}", a);
+  fmt::format_to(out, "\n");
   if (buf_.size() >= kFlushBytes) flush();
 }
 

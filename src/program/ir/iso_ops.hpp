@@ -77,6 +77,15 @@ struct DigitalOutput {
   bool synced = false;
 };
 
+// M67 (synchronised with the next motion) and M68 (immediate): analog output E (0 … 3, LinuxCNC's
+// four) set to Q: a laser's power, a torch height's reference.
+inline constexpr int kAnalogOutputs = 4;
+struct AnalogOutput {
+  int index = 0;
+  double value = 0;
+  bool synced = false;
+};
+
 // M66: wait for input P (digital) or E (analog). mode 0 = no wait (read), 1 rise, 2 fall, 3 high,
 // 4 low. timeout_s = Q. The result (#5399) is a run-time value the program may not branch on.
 struct WaitInput {
@@ -107,6 +116,7 @@ std::string iso_text(const ToolChange& op);
 std::string iso_text(const Pause& op);
 std::string iso_text(const OffsetsChanged& op);
 std::string iso_text(const DigitalOutput& op);
+std::string iso_text(const AnalogOutput& op);
 std::string iso_text(const WaitInput& op);
 std::string iso_text(const Message& op);
 

@@ -88,7 +88,7 @@ using Op = std::variant<Rapid, Linear, Arc, Dwell, ToolSwitch, MFunction, Progra
                         SpcMove, SpcAxisSetting, SpcDwell, SpcJump, SpcCall, SpcReturn, SpcEnd, SpcSync,
                         SpcPosReg, SpcIntReg, SpcBitTest, SpcBitWrite,
                         Boxed<Bezier>, Nurbs, PathMode, SpindleSpeed, ToolSelect, ToolChange, Pause,
-                        Boxed<OffsetsChanged>, DigitalOutput, WaitInput, Message>;
+                        Boxed<OffsetsChanged>, DigitalOutput, AnalogOutput, WaitInput, Message>;
 
 namespace detail {
 template <class T, class V>

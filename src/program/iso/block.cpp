@@ -162,7 +162,7 @@ std::optional<LineError> apply_g(const Word& w, Block& b, GroupSeen& seen) {
 }
 
 // M codes: the P-10 groups decide conflicts; group 14 ("everything else") does not conflict,
-// except M62…M66 among themselves (one I/O operation per block, as LinuxCNC). M7 with M8 is
+// except M62…M68 among themselves (one I/O operation per block, as LinuxCNC). M7 with M8 is
 // allowed (both coolants, LinuxCNC), as the P-10 value M17 says.
 std::optional<LineError> apply_m(const Word& w, const MTable& mt, Block& b) {
   const long long n = std::llround(w.value);
@@ -170,7 +170,6 @@ std::optional<LineError> apply_m(const Word& w, const MTable& mt, Block& b) {
     return LineError{w.col, fmt::format("malformed M code M{}: M codes are whole numbers", w.value)};
   if (n > kMaxMNumber) return LineError{w.col, fmt::format("unknown M code M{} (M0 … M{})", n, kMaxMNumber)};
   switch (n) {
-    case 67: case 68: return LineError{w.col, fmt::format("M{} (analog output) is not supported", n)};
     case 70: case 71: case 72: case 73:  // the parser runs them before the block is checked (modal_state_m)
       return LineError{w.col, fmt::format("M{} (save/restore modal state) stands alone on its line", n)};
     case 98:  // the parser runs it before the block is checked (call_m98)
@@ -183,10 +182,10 @@ std::optional<LineError> apply_m(const Word& w, const MTable& mt, Block& b) {
   }
   const int num = static_cast<int>(n);
   const int group = mt.get(num).group;
-  const bool io = num >= 62 && num <= 66;
+  const bool io = num >= 62 && num <= 68;
   for (std::size_t k = 0; k < b.m_count; ++k) {
     const auto& o = b.m[k];
-    const bool o_io = o.number >= 62 && o.number <= 66;
+    const bool o_io = o.number >= 62 && o.number <= 68;
     const bool coolant_pair = (o.number == 7 && num == 8) || (o.number == 8 && num == 7);
     if (((group == o.group && group != kMOtherGroup) || (io && o_io)) && !coolant_pair)
       return LineError{w.col, fmt::format("two M codes of group {} in one block: M{} and M{}", io ? 14 : group, o.number, num)};

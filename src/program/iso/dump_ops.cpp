@@ -62,6 +62,10 @@ std::string iso_text(const DigitalOutput& op) {
   return fmt::format("dout {} {}{}", op.index, op.on ? "on" : "off", op.synced ? " synced" : "");
 }
 
+std::string iso_text(const AnalogOutput& op) {
+  return fmt::format("aout {} {:.6f}{}", op.index, op.value, op.synced ? " synced" : "");
+}
+
 std::string iso_text(const WaitInput& op) {
   return fmt::format("wait {} {} mode {} timeout {:.6f}", op.digital ? "din" : "ain", op.index, op.mode, op.timeout_s);
 }

@@ -29,9 +29,9 @@ const char* word_users(char letter) {
     case 'I': case 'J': case 'K': return "G2/G3 arcs, G5/G5.1 splines, G87";
     case 'R': return "G2/G3 arcs, canned cycles, G10 L2";
     case 'P': return "G4, G2/G3, G5, G5.2, G10, G64, canned cycles, M62…M66";
-    case 'Q': return "G5, G64, G73/G83, M66, M61";
+    case 'Q': return "G5, G64, G73/G83, M66, M61, M67/M68";
     case 'L': return "G10, canned cycles, G5.2, M66";
-    case 'E': return "M66";
+    case 'E': return "M66, M67/M68";
     case 'D': return "G41/G42, G96";
     case 'H': return "G43";
     default: return "";
@@ -195,6 +195,19 @@ std::optional<LineError> Exec::non_motion_m_and_words() {
         if (p->value > 63) return error(p->col, fmt::format("M{} P{:g}: digital outputs are numbered 0 … 63", m.number, p->value));
         mfn(m);
         emit(DigitalOutput{static_cast<int>(p->value), m.number == 62 || m.number == 64, m.number <= 63});
+        continue;
+      }
+      case 67: case 68: {
+        const auto& e = w('E');
+        const auto& q = w('Q');
+        if (!e) return error(m.col, fmt::format("M{} needs an E word: the number of the analog output (0 … {})", m.number,
+                                                kAnalogOutputs - 1));
+        if (e->value < 0 || e->value >= kAnalogOutputs || e->value != std::floor(e->value))
+          return error(e->col, fmt::format("M{} E{:g}: analog outputs are numbered 0 … {}", m.number, e->value,
+                                           kAnalogOutputs - 1));
+        if (!q) return error(m.col, fmt::format("M{} needs a Q word: the value to set", m.number));
+        mfn(m);
+        emit(AnalogOutput{static_cast<int>(e->value), q->value, m.number == 67});
         continue;
       }
       case 66: {

@@ -780,3 +780,31 @@ TEST(Channel, P10_M64SwitchesAtOnceAfterThePrecedingMotion) {
   }
   EXPECT_TRUE(switched);
 }
+
+// M67 sets its analog output where the next move begins, without a stop; M68 at once after the
+// motion before it (a laser's power: LinuxCNC's M67 E0 Q…).
+TEST(Channel, P10_M67SetsItsAnalogOutputWhereTheNextMoveBegins) {
+  auto p = prog({program::AnalogOutput{0, 40, true}, program::Linear{xy(10, 0), 50}, program::MFunction{67, 14},
+                 program::AnalogOutput{0, 80.5, true}, program::Linear{xy(20, 0), 50}, program::AnalogOutput{2, -1, false},
+                 program::Linear{xy(30, 0), 50}, program::ProgramEnd{}});
+  Rig r;
+  r.ch.load(p);
+  ASSERT_TRUE(r.ch.start({}));
+  double slowest_first_two = 1e9, x_before = 0;
+  std::vector<std::pair<double, double>> power;  // (x before the cycle it changed in, the new value)
+  while (r.ch.state() == control::ChannelState::Running && r.cycles < 100000) {
+    const double before = r.ch.analog_outputs()[0];
+    r.cycle();
+    const double x = r.interp.setpoint().pos[0];
+    if (x > 2 && x < 18) slowest_first_two = std::min(slowest_first_two, r.interp.setpoint().path_v);
+    if (r.ch.analog_outputs()[0] != before) power.push_back({x_before, r.ch.analog_outputs()[0]});
+    x_before = x;
+  }
+  EXPECT_NEAR(slowest_first_two, 50, 1e-9);  // no stop at the M67
+  ASSERT_EQ(power.size(), 2u);
+  EXPECT_EQ(power[0], (std::pair<double, double>{0.0, 40.0}));  // the first move's first cycle
+  EXPECT_LE(power[1].first, 10.0);
+  EXPECT_EQ(power[1].second, 80.5);
+  EXPECT_EQ(r.ch.analog_outputs()[2], -1.0);  // M68
+  EXPECT_EQ(r.interp.setpoint().pos[0], 30.0);
+}

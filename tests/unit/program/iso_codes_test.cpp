@@ -485,6 +485,27 @@ TEST(Iso, P10_StopsToolChangeAndIo) {
   EXPECT_EQ(d[1].index, 4);
   EXPECT_FALSE(d[1].on || d[1].synced);
   EXPECT_EQ(one_error("M62\n"), "t.ngc:1:1: error: M62 needs a P word: the number of the digital output");
+  EXPECT_EQ(one_error("M62 P64\n"), "t.ngc:1:5: error: M62 P64: digital outputs are numbered 0 … 63");
+}
+
+// M67 (synchronised with the next motion) and M68 (immediate) set analog output E to Q (LinuxCNC's
+// four outputs, E0 … E3); one I/O M code a block, as M62…M66.
+TEST(Iso, P10_AnalogOutputsM67M68) {
+  const auto p = parse_ok("M67 E0 Q40.5\nM68 E3 Q-2\n");
+  const auto a = all<AnalogOutput>(p);
+  ASSERT_EQ(a.size(), 2u);
+  EXPECT_EQ(a[0].index, 0);
+  EXPECT_EQ(a[0].value, 40.5);
+  EXPECT_TRUE(a[0].synced);
+  EXPECT_EQ(a[1].index, 3);
+  EXPECT_EQ(a[1].value, -2.0);
+  EXPECT_FALSE(a[1].synced);
+  EXPECT_EQ(all<MFunction>(p).at(0).number, 67);
+  EXPECT_EQ(one_error("M67 Q1\n"), "t.ngc:1:1: error: M67 needs an E word: the number of the analog output (0 … 3)");
+  EXPECT_EQ(one_error("M68 E4 Q1\n"), "t.ngc:1:5: error: M68 E4: analog outputs are numbered 0 … 3");
+  EXPECT_EQ(one_error("M68 E1.5 Q1\n"), "t.ngc:1:5: error: M68 E1.5: analog outputs are numbered 0 … 3");
+  EXPECT_EQ(one_error("M67 E1\n"), "t.ngc:1:1: error: M67 needs a Q word: the value to set");
+  EXPECT_EQ(one_error("M67 E1 Q2 M62 P1\n"), "t.ngc:1:11: error: two M codes of group 14 in one block: M67 and M62");
 }
 
 TEST(IsoBlocks, ModalGroupConflictsNameBothCodes) {

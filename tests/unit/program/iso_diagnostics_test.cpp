@@ -43,7 +43,7 @@ TEST(IsoDiagnostics, TwoMotionWordsInOneBlock) {
 }
 
 TEST(IsoDiagnostics, UnknownAndUnsupportedWords) {
-  EXPECT_EQ(one_error("G1 X1 E5 F60\n"), "t.ngc:1:7: error: E word with nothing to use it (it goes with M66)");
+  EXPECT_EQ(one_error("G1 X1 E5 F60\n"), "t.ngc:1:7: error: E word with nothing to use it (it goes with M66, M67/M68)");
   EXPECT_EQ(one_error("G33.1 X1\n"),
             "t.ngc:1:1: error: G33.1 (spindle-synchronised motion) is not supported: the machine has no spindle feedback");
   EXPECT_EQ(one_error("G33 X1 K1\n"),

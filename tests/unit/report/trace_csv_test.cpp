@@ -39,10 +39,10 @@ TEST(TraceCsv, HeaderRowsAndRoundTrip) {
   write_trace_csv(path, tr, &lined);
   const auto lines = read_lines(path);
   ASSERT_EQ(lines.size(), tr.rows.size() + 1);
-  EXPECT_EQ(lines[0], "t_s,x_cmd_mm,x_act_mm,x_vel_mm_s,y_cmd_mm,y_act_mm,y_vel_mm_s,path_v_mm_s,tool,line,dout");
+  EXPECT_EQ(lines[0], "t_s,x_cmd_mm,x_act_mm,x_vel_mm_s,y_cmd_mm,y_act_mm,y_vel_mm_s,path_v_mm_s,tool,line,dout,aout0,aout1,aout2,aout3");
   for (std::size_t r : {std::size_t{0}, tr.rows.size() / 3, tr.rows.size() - 1}) {
     const auto f = split(lines[r + 1]);
-    ASSERT_EQ(f.size(), 11u) << lines[r + 1];
+    ASSERT_EQ(f.size(), 15u) << lines[r + 1];
     EXPECT_EQ(f[10], "0") << "row " << r;  // no digital output set
     EXPECT_EQ(std::stoul(f[9]), 10u + row_tag(tr, r)) << "row " << r;
     const auto& row = tr.rows[r];
@@ -59,11 +59,12 @@ TEST(TraceCsv, HeaderRowsAndRoundTrip) {
   fine.rows[0].cmd[0] = 123.456789;
   fine.rows[0].tool_on = true;
   fine.rows[0].dout = (std::uint64_t{1} << 63) | 5;  // outputs 0, 2 and 63
+  fine.rows[0].aout = {0, 12.5, 0, -0.125};
   write_trace_csv(path, fine);
   const auto fl = read_lines(path);
   ASSERT_EQ(fl.size(), 2u);
-  EXPECT_EQ(fl[0], "t_s,x_cmd_mm,x_act_mm,x_vel_mm_s,path_v_mm_s,tool,line,dout");
-  EXPECT_EQ(fl[1], "0,123.456789,0,0,0,1,0,9223372036854775813");  // no program: line 0
+  EXPECT_EQ(fl[0], "t_s,x_cmd_mm,x_act_mm,x_vel_mm_s,path_v_mm_s,tool,line,dout,aout0,aout1,aout2,aout3");
+  EXPECT_EQ(fl[1], "0,123.456789,0,0,0,1,0,9223372036854775813,0,12.5,0,-0.125");  // no program: line 0
 }
 
 TEST(TraceCsv, AxesInIndexOrderAndOnlyTheConfiguredOnes) {
@@ -75,7 +76,7 @@ TEST(TraceCsv, AxesInIndexOrderAndOnlyTheConfiguredOnes) {
   ASSERT_EQ(lines.size(), 1u);
   EXPECT_EQ(lines[0],
             "t_s,x_cmd_mm,x_act_mm,x_vel_mm_s,z_cmd_mm,z_act_mm,z_vel_mm_s,u_cmd_mm,u_act_mm,u_vel_mm_s,"
-            "path_v_mm_s,tool,line,dout");
+            "path_v_mm_s,tool,line,dout,aout0,aout1,aout2,aout3");
 }
 
 TEST(TraceCsv, UnopenableFileThrows) {
