@@ -16,8 +16,10 @@
 // tool position to the programmed end point offset perpendicular to the entry move, which must be
 // longer than the tool radius; or an arc (LinuxCNC 2.9 convert_arc_comp1) to the programmed end
 // point moved by the tool radius along the radius, about a centre moved along that radius so that
-// it starts at the tool. G40 flushes the held move; the next move then starts at the tool
-// position (the interpreter reads it from tool_position()). Moves with no motion in the plane
+// it starts at the tool. G40 flushes the held move; the next move then starts where the tool is
+// (the last end the IR gave), while the interpreter's position is the programmed point again, as
+// LinuxCNC's (#5420…, G91). Under compensation the interpreter reads where the tool is from
+// tool_position() for the position parameters. Moves with no motion in the plane
 // (Z plunges) keep the tool at its offset point; non-motion instructions keep their order.
 //
 // Usage by the interpreter (the hook):
@@ -70,7 +72,7 @@ class CutterComp {
   void stop(std::vector<Instruction>& out);
 
   // Where the tool is (or will be once the held instructions are released): the compensated end
-  // of the last move. After stop() the interpreter continues from here.
+  // of the last move, before the next move's corner is known (LinuxCNC's #5420… under compensation).
   const core::Vec& tool_position() const { return tool_; }
 
  private:

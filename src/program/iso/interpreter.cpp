@@ -188,26 +188,29 @@ std::optional<LineError> Exec::non_motion_m_and_words() {
         st.mist = m.number == 7 || m.number == 17 || (m.number == 8 && st.mist);
         st.flood = m.number == 8 || m.number == 17 || (m.number == 7 && st.flood);
         continue;
-      case 62: case 63: case 64: case 65: {
+      case 62: case 63: case 64: case 65: case 67: case 68: {
+        if (st.comp != Comp::Off)  // LinuxCNC refuses them too (its outputs are not held with the moves)
+          return error(m.col, fmt::format("M{} cannot set an output with cutter radius compensation on (G40 first)",
+                                          m.number));
+        if (m.number >= 67) {
+          const auto& e = w('E');
+          const auto& q = w('Q');
+          if (!e) return error(m.col, fmt::format("M{} needs an E word: the number of the analog output (0 … {})",
+                                                  m.number, kAnalogOutputs - 1));
+          if (e->value < 0 || e->value >= kAnalogOutputs || e->value != std::floor(e->value))
+            return error(e->col, fmt::format("M{} E{:g}: analog outputs are numbered 0 … {}", m.number, e->value,
+                                             kAnalogOutputs - 1));
+          if (!q) return error(m.col, fmt::format("M{} needs a Q word: the value to set", m.number));
+          mfn(m);
+          emit(AnalogOutput{static_cast<int>(e->value), q->value, m.number == 67});
+          continue;
+        }
         const auto& p = w('P');
         if (!p || p->value < 0 || p->value != std::floor(p->value))
           return error(m.col, fmt::format("M{} needs a P word: the number of the digital output", m.number));
         if (p->value > 63) return error(p->col, fmt::format("M{} P{:g}: digital outputs are numbered 0 … 63", m.number, p->value));
         mfn(m);
         emit(DigitalOutput{static_cast<int>(p->value), m.number == 62 || m.number == 64, m.number <= 63});
-        continue;
-      }
-      case 67: case 68: {
-        const auto& e = w('E');
-        const auto& q = w('Q');
-        if (!e) return error(m.col, fmt::format("M{} needs an E word: the number of the analog output (0 … {})", m.number,
-                                                kAnalogOutputs - 1));
-        if (e->value < 0 || e->value >= kAnalogOutputs || e->value != std::floor(e->value))
-          return error(e->col, fmt::format("M{} E{:g}: analog outputs are numbered 0 … {}", m.number, e->value,
-                                           kAnalogOutputs - 1));
-        if (!q) return error(m.col, fmt::format("M{} needs a Q word: the value to set", m.number));
-        mfn(m);
-        emit(AnalogOutput{static_cast<int>(e->value), q->value, m.number == 67});
         continue;
       }
       case 66: {

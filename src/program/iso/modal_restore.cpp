@@ -12,9 +12,6 @@ bool same_path(const ModalState& a, const ModalState& b) {
          a.path.continuous == b.path.continuous;
 }
 
-// G54 … G59 are 54 … 59, G59.1 … G59.3 are 59.1 … 59.3 (coordinate systems 1 … 9).
-double coord_system_word(int n) { return n <= 6 ? 53.0 + n : 59.0 + (n - 6) / 10.0; }
-
 }  // namespace
 
 ModalRestore modal_restore_blocks(const ModalState& saved, const ModalState& now, std::uint32_t col) {
@@ -42,7 +39,7 @@ ModalRestore modal_restore_blocks(const ModalState& saved, const ModalState& now
   if (saved.arc_distance != now.arc_distance)
     rest.push_back(word('G', saved.arc_distance == Distance::Absolute ? 90.1 : 91.1));
   if (saved.feed_mode != now.feed_mode) rest.push_back(word('G', saved.feed_mode == FeedMode::InverseTime ? 93 : 94));
-  if (saved.coord_system != now.coord_system) rest.push_back(word('G', coord_system_word(saved.coord_system)));
+  if (saved.coord_system != now.coord_system) rest.push_back(word('G', coord_system_code10(saved.coord_system) / 10.0));
   if (saved.retract != now.retract) rest.push_back(word('G', saved.retract == Retract::OldZ ? 98 : 99));
   if (saved.css != now.css || saved.spindle_speed != now.spindle_speed ||
       (saved.css && saved.css_max_rpm != now.css_max_rpm)) {
@@ -55,12 +52,16 @@ ModalRestore modal_restore_blocks(const ModalState& saved, const ModalState& now
   if (saved.mist && (coolant_off || !now.mist)) rest.push_back(word('M', 7));
   if (saved.flood && (coolant_off || !now.flood)) rest.push_back(word('M', 8));
   if (saved.feed_override != now.feed_override) rest.push_back(word('M', saved.feed_override ? 48 : 49));
+  // G43 and G49 are programmed again where the code differs (G43: the tool now loaded, as rs274
+  // does); a G43.1 offset is set to the bit by restore_exact_modes.
+  if (saved.tool_length_code != now.tool_length_code && saved.tool_length_code != 431)
+    rest.push_back(word('G', saved.tool_length_code / 10.0));
   if (!rest.empty()) r.blocks.push_back(std::move(rest));
   return r;
 }
 
 std::optional<std::string> restore_exact_modes(const ModalState& saved, ModalState& st, std::vector<Op>& ops) {
-  const bool tool_changes = saved.tool_length_on != st.tool_length_on || !(saved.tool == st.tool);
+  const bool tool_changes = saved.tool_length_code == 431 && (st.tool_length_code != 431 || !(saved.tool == st.tool));
   if (tool_changes && st.comp != Comp::Off)
     return "cannot restore the tool length offset with cutter radius compensation on (G40 first)";
   if (!same_path(saved, st) && saved.path_programmed) {
@@ -70,7 +71,7 @@ std::optional<std::string> restore_exact_modes(const ModalState& saved, ModalSta
   }
   if (tool_changes) {
     st.tool = saved.tool;
-    st.tool_length_on = saved.tool_length_on;
+    st.tool_length_code = 431;
     ops.emplace_back(offsets_of(st));
   }
   st.feed_mm_s = saved.feed_mm_s;

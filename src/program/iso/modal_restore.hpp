@@ -9,7 +9,7 @@
 // The restore runs as ordinary blocks through the interpreter, so each change emits what the code
 // itself would (M functions for the PLC, ToolSwitch, SpindleSpeed, OffsetsChanged), and only modes
 // that differ are programmed again. What a word cannot give back to the bit (the path tolerance and
-// the tool length offset, read in program units, and F in mm/s) is set directly afterwards.
+// a G43.1 tool length offset, read in program units, and F in mm/s) is set directly afterwards.
 #pragma once
 
 #include <cstdint>
@@ -38,9 +38,9 @@ struct ModalRestore {
 // and `now` has one.
 ModalRestore modal_restore_blocks(const ModalState& saved, const ModalState& now, std::uint32_t col);
 
-// After the blocks ran on `st`: the path mode, the tool length offset and F set from `saved` to the
-// bit; the PathMode and OffsetsChanged instructions their changes need are appended to `ops`. An
-// error (the tool length offset cannot change while compensation is on) changes nothing.
+// After the blocks ran on `st`: the path mode, a G43.1 tool length offset and F set from `saved` to
+// the bit; the PathMode and OffsetsChanged instructions their changes need are appended to `ops`.
+// An error (the tool length offset cannot change while compensation is on) changes nothing.
 std::optional<std::string> restore_exact_modes(const ModalState& saved, ModalState& st, std::vector<Op>& ops);
 
 }  // namespace softmc::program::iso

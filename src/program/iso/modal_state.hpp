@@ -38,7 +38,7 @@ struct ModalState {
   double rotation_deg = 0;
   core::Vec axis;        // active G92 offset
   core::Vec tool;        // active tool length offset
-  bool tool_length_on = false;
+  int tool_length_code = 490;  // the G code that set it ×10: G43 430, G43.1 431, G49 490
 
   SpindleDir spindle = SpindleDir::Stopped;  // M3/M4 turn it, M5 and M19 stop it
   bool css = false;                          // G96 (constant surface speed) / G97

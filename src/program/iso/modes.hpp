@@ -67,6 +67,8 @@ constexpr int motion_code10(Motion m) {
 
 // G17, G18, G19 times ten (LinuxCNC's #<_plane>), and as written.
 constexpr int plane_code10(Plane p) { return p == Plane::XY ? 170 : p == Plane::XZ ? 180 : 190; }
+// Coordinate system n (1 … 9) as its G code ×10: G54 … G59 are 540 … 590, G59.1 … G59.3 591 … 593.
+constexpr int coord_system_code10(int n) { return n <= 6 ? 530 + 10 * n : 590 + (n - 6); }
 constexpr const char* plane_code(Plane p) { return p == Plane::XY ? "G17" : p == Plane::XZ ? "G18" : "G19"; }
 
 inline constexpr double kMmPerInch = 25.4;

@@ -314,12 +314,15 @@ void ProgramReader::emit_messages(std::size_t f, std::size_t pc, std::uint32_t c
 // The block's ops to the program, through cutter compensation while it is on.
 void ProgramReader::deliver(const core::SourceLoc& loc, const core::Vec& before) {
   for (std::size_t i = 0; i <= out_.ops.size(); ++i) {
-    if (out_.comp && out_.comp->at == i) switch_comp(loc, before, i == out_.ops.size());
+    if (out_.comp && out_.comp->at == i) switch_comp(loc, before);
     if (i < out_.ops.size()) put(Instruction{loc, std::move(out_.ops[i])});
   }
 }
 
-void ProgramReader::switch_comp(const core::SourceLoc& loc, const core::Vec& before, bool last) {
+// G40 leaves the position the programmed point, as LinuxCNC's current position after it: #5420…
+// and a G91 move count from there, while the next move starts where the tool is (its end is all the
+// IR gives).
+void ProgramReader::switch_comp(const core::SourceLoc& loc, const core::Vec& before) {
   const auto& c = *out_.comp;
   if (c.on) {
     if (auto msg = comp_.start(c.side, c.radius_mm, c.axis0, c.axis1, before)) add_error_loc(loc, std::move(*msg));
@@ -328,7 +331,6 @@ void ProgramReader::switch_comp(const core::SourceLoc& loc, const core::Vec& bef
   comp_out_.clear();
   comp_.stop(comp_out_);
   for (auto& ins : comp_out_) program_.instructions.push_back(std::move(ins));
-  if (last) state_.position = comp_.tool_position();  // the next move starts where the tool is
 }
 
 void ProgramReader::put(Instruction ins) {

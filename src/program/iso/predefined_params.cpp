@@ -37,8 +37,7 @@ void set_predefined_parameters(Parameters& params, const ModalState& st, const c
   flag(Predefined::InverseTime, st.feed_mode == FeedMode::InverseTime);
   flag(Predefined::UnitsPerMinute, st.feed_mode == FeedMode::PerMinute);
   flag(Predefined::UnitsPerRev, false);  // G95 is refused
-  // G54 … G59 are 540 … 590, G59.1 … G59.3 are 591 … 593.
-  set(Predefined::CoordSystem, st.coord_system <= 6 ? 530 + 10 * st.coord_system : 590 + (st.coord_system - 6));
+  set(Predefined::CoordSystem, coord_system_code10(st.coord_system));
   bool offset = false;  // LinuxCNC: a tool length offset other than zero is in effect (G43 with a zero one: 0)
   for (const double t : st.tool.v) offset = offset || t != 0;
   flag(Predefined::ToolOffset, offset);

@@ -120,7 +120,7 @@ void ProgramReader::o_line(const OEntry& e, std::size_t& f, std::size_t& pc) {
         ++pc;
         return;
       }
-      return_from_sub(f, pc);
+      return_from_sub(f, pc, e.o.col);
       return;
     }
     case OKeyword::Call: call(e, f, pc); return;
@@ -319,11 +319,9 @@ bool ProgramReader::enter_call(std::size_t f, std::size_t pc, std::uint32_t col,
   return true;
 }
 
-void ProgramReader::return_from_sub(std::size_t& f, std::size_t& pc) {
-  // M73: the caller's modes come back (not where a subroutine file ended without its endsub: that
-  // is reported already).
-  if (frames_.back().autorestore && frames_.back().saved_modes && pc < files_[f]->lines.size())
-    restore_modes(*frames_.back().saved_modes, f, pc, 1, "the return restores the modes M73 saved");
+void ProgramReader::return_from_sub(std::size_t& f, std::size_t& pc, std::uint32_t col) {
+  // Not where a subroutine file ended without its endsub: that is reported already.
+  if (pc < files_[f]->lines.size()) autorestore(f, pc, col);
   f = frames_.back().file;
   pc = frames_.back().return_line;
   frames_.pop_back();
@@ -443,15 +441,14 @@ void ProgramReader::m99(const OEntry& e, std::size_t& f, std::size_t& pc) {
   if (--top.passes_left > 0) {
     // Each pass is a call of its own (LinuxCNC): M73's modes come back at its M99, and what M70/M73
     // saved is gone for the next pass.
-    if (top.autorestore && top.saved_modes)
-      restore_modes(*top.saved_modes, f, pc, e.o.col, "the return restores the modes M73 saved");
+    autorestore(f, pc, e.o.col);
     top.saved_modes.reset();
     top.autorestore = false;
     top.loops.clear();
     pc = top.program_line + 1;
     return;
   }
-  return_from_sub(f, pc);
+  return_from_sub(f, pc, e.o.col);
 }
 
 // ---- modal state: M70 save, M71 invalidate, M72 restore, M73 save and restore on return ----
@@ -491,6 +488,12 @@ void ProgramReader::modal_state_m(std::size_t f, std::size_t pc, const Word& m) 
       }
       restore_modes(*level.saved_modes, f, pc, m.col, "M72");
   }
+}
+
+void ProgramReader::autorestore(std::size_t f, std::size_t pc, std::uint32_t col) {
+  const CallFrame& level = frames_.back();
+  if (level.autorestore && level.saved_modes)
+    restore_modes(*level.saved_modes, f, pc, col, "the return restores the modes M73 saved");
 }
 
 // Brings the saved modes back (modal_restore.hpp) as the restore's blocks would, run on a copy of the

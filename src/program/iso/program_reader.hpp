@@ -81,7 +81,7 @@ class ProgramReader {
   bool aborts(std::size_t f, std::size_t pc);
   void emit_messages(std::size_t f, std::size_t pc, std::uint32_t col);
   void deliver(const core::SourceLoc& loc, const core::Vec& before);
-  void switch_comp(const core::SourceLoc& loc, const core::Vec& before, bool last);
+  void switch_comp(const core::SourceLoc& loc, const core::Vec& before);
   void put(Instruction ins);
   void lex(std::string_view line, std::size_t pc);
 
@@ -103,7 +103,8 @@ class ProgramReader {
   bool find_sub(const std::string& name, std::size_t f, std::size_t& sub_file, std::size_t& sub_line, std::string& why);
   void call(const OEntry& e, std::size_t& f, std::size_t& pc);
   bool enter_call(std::size_t f, std::size_t pc, std::uint32_t col, const char* what, CallFrame frame);
-  void return_from_sub(std::size_t& f, std::size_t& pc);
+  // Back to the caller from the return at (f, pc) (`col`: its word, for a restore's error).
+  void return_from_sub(std::size_t& f, std::size_t& pc, std::uint32_t col = 1);
 
   // ---- Fanuc-style subprograms: M98 P<n> [L<k>] calls O<n> … M99 (program_flow.cpp) ----
 
@@ -116,6 +117,8 @@ class ProgramReader {
 
   void modal_state_m(std::size_t f, std::size_t pc, const Word& m);
   bool restore_modes(const ModalState& saved, std::size_t f, std::size_t pc, std::uint32_t col, std::string_view what);
+  // M73: the modes the call level saved come back at its return (endsub, return, an M99).
+  void autorestore(std::size_t f, std::size_t pc, std::uint32_t col);
 
   void finish();
 

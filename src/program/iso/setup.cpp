@@ -23,16 +23,13 @@ std::optional<LineError> Exec::tool_length() {
       if (!tt) return error(b.has('H') ? b.word('H')->col : b.tool_length->col, fmt::format("tool {} is not in the tool table", tool));
       t = tt->offset;
     }
-    st.tool_length_on = true;
   } else if (code == 431) {
     // G43.1: the axis words are the offsets themselves (program units).
     if (!b.has_axes()) return error(b.tool_length->col, "G43.1 needs axis words: the tool length offsets");
     for (std::size_t a = 0; a < core::kMaxAxes; ++a)
       if (const auto& x = w(core::letter(a))) t[a] = x->value * scale(a);
-    st.tool_length_on = true;
-  } else {
-    st.tool_length_on = false;
   }
+  st.tool_length_code = code;
   st.tool = t;
   emit_offsets();
   return std::nullopt;

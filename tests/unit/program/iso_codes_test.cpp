@@ -506,6 +506,11 @@ TEST(Iso, P10_AnalogOutputsM67M68) {
   EXPECT_EQ(one_error("M68 E1.5 Q1\n"), "t.ngc:1:5: error: M68 E1.5: analog outputs are numbered 0 … 3");
   EXPECT_EQ(one_error("M67 E1\n"), "t.ngc:1:1: error: M67 needs a Q word: the value to set");
   EXPECT_EQ(one_error("M67 E1 Q2 M62 P1\n"), "t.ngc:1:11: error: two M codes of group 14 in one block: M67 and M62");
+  // Not under cutter compensation (LinuxCNC: "Cannot set motion output with cutter radius comp on").
+  EXPECT_EQ(one_error("G21 F100\nG41.1 D2\nG1 X10\nM67 E0 Q1\nM2\n"),
+            "t.ngc:4:1: error: M67 cannot set an output with cutter radius compensation on (G40 first)");
+  EXPECT_EQ(one_error("G21 F100\nG41.1 D2\nG1 X10\nM62 P1\nM2\n"),
+            "t.ngc:4:1: error: M62 cannot set an output with cutter radius compensation on (G40 first)");
 }
 
 TEST(IsoBlocks, ModalGroupConflictsNameBothCodes) {

@@ -158,6 +158,25 @@ TEST(IsoModalState, M72RestoresTheToolLengthOffsetToTheBit) {
   EXPECT_EQ(ends(p).back()[2], 0.3 * 25.4);
 }
 
+// G43 comes back as G43: the offset of the tool loaded now (rs274 -g: T2's 12.7 mm, not T1's),
+// and a G43 H2 made since is kept (the code is the same).
+TEST(IsoModalState, M72ProgramsG43AgainForTheToolLoadedNow) {
+  const auto tt = tools_ok("T1 P1 Z25.4 D3\nT2 P2 Z12.7 D6\n");
+  iso::ParseOptions opt;
+  opt.tools = &tt;
+  const auto p = parse_ok("G21 G90\nT1 M6\nG43\nM70\nT2 M6\nG49\nM72\nG0 Z10\nM70\nG43 H1\nM72\nG0 Z0\nM2\n", opt);
+  EXPECT_EQ(ends(p), (std::vector<core::Vec>{xyz(0, 0, 22.7), xyz(0, 0, 25.4)}));
+}
+
+// A restore's error at an endsub or return names its word.
+TEST(IsoModalState, AnM73RestoreErrorNamesTheReturnsWord) {
+  EXPECT_EQ(one_error("G21 G90 F100\nG41.1 D2\nG1 X10 Y0\no1 sub\n    M73\n    G40\n    G1 X20 Y0\n    o1 endsub\n"
+                      "o1 call\nM2\n"),
+            "t.ngc:8:5: error: the return restores the modes M73 saved: cannot restore cutter compensation left (G41) "
+            "(radius 1 mm): program G41/G42 again after the restore (LinuxCNC would turn it on with the current "
+            "tool's radius)");
+}
+
 // Each call level keeps its own saved state: a subroutine cannot restore what the main program
 // saved, M71 invalidates, and a recursive call saves and restores at each level.
 TEST(IsoModalState, EachCallLevelHasItsOwnSavedState) {

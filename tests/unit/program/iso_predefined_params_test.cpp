@@ -121,3 +121,20 @@ TEST(IsoPredefinedParameters, PositionUnderCutterCompensationIsTheTools) {
       " 0.000000 0.000000"};                             // G40: the programmed point again
   EXPECT_EQ(messages(p), want);
 }
+
+// A G40 on a line of its own gives the programmed point back at once (#5420… and the base of a G91
+// move), while the next move starts where the tool is: rs274 -g gives the same ends and values.
+TEST(IsoPredefinedParameters, AfterABareG40ThePositionIsTheProgrammedPoint) {
+  const auto p = parse_ok(
+      "G21 G90 G64 P0.1 F100\n"
+      "G0 X0 Y0\n"
+      "G41.1 D2\n"
+      "G1 X10 Y0\n"
+      "G1 X10 Y10\n"
+      "G40\n"
+      "(DEBUG, #5420 #5421)\n"
+      "G91 G1 X-5\n"
+      "(DEBUG, #<_x> #<_y>)\n");
+  EXPECT_EQ(ends(p), (std::vector<core::Vec>{xyz(0, 0), xyz(9, 1), xyz(9, 10), xyz(5, 10)}));
+  EXPECT_EQ(messages(p), (std::vector<std::string>{" 10.000000 10.000000", " 5.000000 10.000000"}));
+}
