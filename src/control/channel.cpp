@@ -13,6 +13,21 @@ namespace softmc::control {
 
 namespace {
 constexpr double kArcPieceRad = 3.14159265358979323846 / 4;  // longest arc piece without jerk limits
+
+// M62/M63/M67 (LinuxCNC's outputs synchronised with motion): their M function passes with them.
+bool synced_output_m(int number) { return number == 62 || number == 63 || number == 67; }
+bool synced_output(const program::Op& op) {
+  if (const auto* d = std::get_if<program::DigitalOutput>(&op)) return d->synced;
+  if (const auto* a = std::get_if<program::AnalogOutput>(&op)) return a->synced;
+  return false;
+}
+// What the path runs through: a path mode, and outputs synchronised with motion (with their M
+// function). Neither ends a run of lines to smooth.
+bool passes_through(const program::Op& op) {
+  if (std::holds_alternative<program::PathMode>(op) || synced_output(op)) return true;
+  const auto* m = std::get_if<program::MFunction>(&op);
+  return m && synced_output_m(m->number);
+}
 }  // namespace
 
 const char* to_string(ChannelState s) {
@@ -32,6 +47,8 @@ void Channel::load(const program::Program& prog) {
   state_ = ChannelState::Idle;
   pc_ = 0;
   curve_next_ = 0;
+  batches_.assign(planner_.queue().capacity() + 1, OutputBatch{});
+  min_length_mm_ = planner_.min_length();
   // Curves are built from where the program's previous motion ends: walk the programmed geometry.
   const auto n = prog.instructions.size();
   // Each instruction's pieces go straight into one compact store, in program order (a run's lines
@@ -130,7 +147,7 @@ void Channel::load(const program::Program& prog) {
       }
       run_pts.push_back(l->end);
       run_ins.push_back(i);
-    } else if (!std::holds_alternative<program::PathMode>(op)) {
+    } else if (!passes_through(op)) {
       close_run();
     }
     if (auto seg = to_segment(op, at)) {
@@ -222,28 +239,37 @@ bool Channel::start(const core::Vec& from) {
   path_tolerance_mm_ = -1;
   dwell_left_s_ = 0;
   pops_at_cycle_ = planner_.queue().ring().pops();  // what braked before is not this path's pace
-  synced_n_ = 0;
-  sync_barrier_ = false;
+  batch_n_ = 0;
+  batch_open_ = false;
   state_ = ChannelState::Running;
   return true;
 }
 
-// rt-safe: the output an M62/M63/M67 sets once the motion after it begins (none for anything else).
-std::optional<Channel::SyncedOutput> Channel::synced_output(const program::Op& op) const {
-  if (const auto* d = std::get_if<program::DigitalOutput>(&op); d && d->synced)
-    return SyncedOutput{pc_, static_cast<std::uint8_t>(d->index), false, d->on, 0};
-  if (const auto* a = std::get_if<program::AnalogOutput>(&op); a && a->synced)
-    return SyncedOutput{pc_, static_cast<std::uint8_t>(a->index), true, false, a->value};
-  return std::nullopt;
+void Channel::OutputBatch::add(const program::DigitalOutput& d) {
+  const std::uint64_t bit = std::uint64_t{1} << (d.index & 63);
+  on = d.on ? on | bit : on & ~bit;
+  off = d.on ? off & ~bit : off | bit;
+}
+
+void Channel::OutputBatch::add(const program::AnalogOutput& a) {
+  if (a.index < 0 || a.index >= program::kAnalogOutputs) return;
+  analog |= static_cast<std::uint8_t>(1u << a.index);
+  value[a.index] = a.value;
+}
+
+void Channel::apply(const OutputBatch& b) {
+  dout_ = (dout_ | b.on) & ~b.off;
+  for (std::size_t k = 0; k < aout_.size(); ++k)
+    if (b.analog & (1u << k)) aout_[k] = b.value[k];
 }
 
 // rt-safe
 void Channel::sync_outputs() {
   const auto& sp = interp_.setpoint();
-  while (synced_n_ > 0 && sp.moving && sp.tag > synced_[synced_head_].after) {
-    set_output(synced_[synced_head_]);
-    synced_head_ = (synced_head_ + 1) % synced_.size();
-    --synced_n_;
+  while (batch_n_ > 0 && sp.moving && sp.path_v > 0 && sp.tag > batches_[batch_head_].after) {
+    apply(batches_[batch_head_]);
+    batch_head_ = (batch_head_ + 1) % batches_.size();
+    --batch_n_;
   }
 }
 
@@ -345,7 +371,7 @@ void Channel::update(double dt_s) {
     if (is_curve(op) || precomputed_[pc_]) {
       if (curve_error_[pc_] != motion::CurveError::Ok) return fail(motion::to_string(curve_error_[pc_]), motion::PlanResult::Infeasible);
       if (!push_curve(budget)) return;  // wait for room (or a planning fault)
-      sync_barrier_ = false;
+      batch_open_ = false;
       ++pc_;
       continue;
     }
@@ -354,22 +380,29 @@ void Channel::update(double dt_s) {
       double feed = 0;
       if (const auto* l = std::get_if<program::Linear>(&op)) feed = l->feed_mm_s;
       if (const auto* a = std::get_if<program::Arc>(&op)) feed = a->feed_mm_s;
-      const auto r = planner_.push(request(feed, std::holds_alternative<program::Rapid>(op), !sync_barrier_, pc_));
+      const auto r = planner_.push(request(feed, std::holds_alternative<program::Rapid>(op), !batch_open_, pc_));
       if (r != motion::PlanResult::Ok) return fail(motion::to_string(r), r);
-      sync_barrier_ = false;
+      if (req_.geom.length > min_length_mm_) batch_open_ = false;  // a zero-length move makes no block
       plan_pos_ = req_.geom.end;
       ++pc_;
       continue;
     }
     // M62/M63 and M67 (and their M function, for the PLC's record): the output waits for the motion
     // after it to begin, and the path goes on through them (LinuxCNC's motion-synchronised outputs).
-    if (const auto o = synced_output(op); o && synced_n_ < synced_.size()) {
-      synced_[(synced_head_ + synced_n_++) % synced_.size()] = *o;
-      sync_barrier_ = true;
+    if (synced_output(op)) {
+      if (!batch_open_) {
+        if (batch_n_ == batches_.size()) return;  // wait for the path to reach the batches before
+        batches_[(batch_head_ + batch_n_++) % batches_.size()] = OutputBatch{};
+        batch_open_ = true;
+      }
+      OutputBatch& b = batches_[(batch_head_ + batch_n_ - 1) % batches_.size()];
+      b.after = pc_;
+      if (const auto* d = std::get_if<program::DigitalOutput>(&op)) b.add(*d);
+      if (const auto* a = std::get_if<program::AnalogOutput>(&op)) b.add(*a);
       ++pc_;
       continue;
     }
-    if (const auto* m = std::get_if<program::MFunction>(&op); m && (m->number == 62 || m->number == 63 || m->number == 67)) {
+    if (const auto* m = std::get_if<program::MFunction>(&op); m && synced_output_m(m->number)) {
       last_m_ = m->number;
       ++pc_;
       continue;
@@ -397,10 +430,10 @@ void Channel::update(double dt_s) {
       }
       ++pc_;
     } else if (const auto* o = std::get_if<program::DigitalOutput>(&op)) {
-      set_output(o->index, o->on);  // M64/M65 at once (an M62/M63 only when too many wait)
+      set_output(o->index, o->on);  // M64/M65 at once
       ++pc_;
     } else if (const auto* a = std::get_if<program::AnalogOutput>(&op)) {
-      set_output(SyncedOutput{pc_, static_cast<std::uint8_t>(a->index), true, false, a->value});  // M68 (or M67)
+      if (static_cast<std::size_t>(a->index) < aout_.size()) aout_[a->index] = a->value;  // M68
       ++pc_;
     } else if (std::holds_alternative<program::ProgramEnd>(op)) {
       tool_on_ = false;  // program end switches the tool off (RS274: M2/M30 imply M5)

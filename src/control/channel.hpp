@@ -56,9 +56,6 @@ class Channel {
   // Segments (1.5 MB) while it smooths them.
   static constexpr std::size_t kMaxLoadThreads = 8;
   static constexpr std::size_t kMaxThinned = 64;
-  // Outputs synchronised with motion (M62/M63, M67) waiting for their motion to begin; one more is
-  // taken at an exact stop instead (the path stops there, then it switches).
-  static constexpr std::size_t kMaxSyncedOutputs = 64;
 
   Channel(motion::Planner& planner, motion::Interpolator& interp) : planner_(planner), interp_(interp) {}
 
@@ -77,8 +74,9 @@ class Channel {
   // rt-safe: executes until the program blocks (queue full, waiting for motion, dwell) or the budget ends.
   void update(double dt_s);
   // rt-safe: after the interpolator's step. The outputs M62/M63 and M67 set synchronised with
-  // motion take effect in the cycle the motion after them begins (its first setpoint), as LinuxCNC
-  // sets them at the start of the next move; one with no motion after it changes nothing.
+  // motion take effect in the first cycle that moves on the motion after them, as LinuxCNC sets them
+  // at the start of the next move (each output's last value before that move); one with no motion
+  // after it changes nothing, and none switches while the path stands (a hold).
   void sync_outputs();
   // rt-safe: fault from outside (a drive, a switch): the channel stops executing.
   void fault(const char* message);
@@ -138,25 +136,27 @@ class Channel {
   int last_m_ = -1;
   std::uint64_t dout_ = 0;
   std::array<double, program::kAnalogOutputs> aout_{};
-  struct SyncedOutput {
-    std::uint32_t after = 0;  // the M62/M63/M67's instruction: it switches once the path is past it
-    std::uint8_t index = 0;
-    bool analog = false;      // M67: aout_[index] = value; else M62/M63: output index on or off
-    bool on = false;
-    double value = 0;
+  // The outputs M62/M63/M67 set between two motions, applied together once the path moves on the
+  // motion after them.
+  struct OutputBatch {
+    std::uint32_t after = 0;         // the batch's last output instruction
+    std::uint64_t on = 0, off = 0;   // digital outputs switched on, off
+    std::uint8_t analog = 0;         // bit k: analog output k set to value[k]
+    std::array<double, program::kAnalogOutputs> value{};
+    void add(const program::DigitalOutput& d);
+    void add(const program::AnalogOutput& a);
   };
-  std::array<SyncedOutput, kMaxSyncedOutputs> synced_{};  // a ring: synced_head_, synced_n_
-  std::size_t synced_head_ = 0, synced_n_ = 0;
-  // The motion after an M62/M63 is not merged into the line before it (it must begin a block of
-  // its own, whose first setpoint switches the output).
-  bool sync_barrier_ = false;
+  // A ring sized at load to the planner's window (each batch but the newest waits for a block in
+  // it) and one more: batch_head_, batch_n_.
+  std::vector<OutputBatch> batches_;
+  std::size_t batch_head_ = 0, batch_n_ = 0;
+  // The newest batch still takes outputs: no motion has made a block since. The motion after it is
+  // not merged into the line before (it begins a block of its own).
+  bool batch_open_ = false;
+  double min_length_mm_ = 0;  // a motion no longer than this makes no block (Planner::min_length_mm)
+  void apply(const OutputBatch& b);
   void set_output(int index, bool on) {
     if (index >= 0 && index < 64) dout_ = on ? dout_ | (std::uint64_t{1} << index) : dout_ & ~(std::uint64_t{1} << index);
-  }
-  std::optional<SyncedOutput> synced_output(const program::Op& op) const;
-  void set_output(const SyncedOutput& o) {
-    if (!o.analog) return set_output(o.index, o.on);
-    if (o.index < aout_.size()) aout_[o.index] = o.value;
   }
   const char* fault_ = "";
   motion::PlanResult plan_error_ = motion::PlanResult::Ok;

@@ -707,12 +707,14 @@ TEST(Run, P10_M62AndM63SwitchTheBeamWithoutStoppingThePath) {
     ASSERT_EQ(a.res.trace.rows.size(), b.res.trace.rows.size()) << "jerk " << jerk;
     for (std::size_t r = 0; r < a.res.trace.rows.size(); ++r) {
       ASSERT_EQ(a.res.trace.rows[r].cmd, b.res.trace.rows[r].cmd) << "jerk " << jerk << " row " << r;
-      // On while the setpoint lies on a cutting pass (the line after an M62), off elsewhere.
+      // On while the setpoint moves on a cutting pass (the line after an M62), off while it moves
+      // elsewhere; at rest on a move's start (a corner stop) the output keeps its value until it moves.
       const auto& row = a.res.trace.rows[r];
       const bool cutting = row.tag < a.prog.instructions.size() && row.moving && r > 0 &&
                            std::holds_alternative<program::DigitalOutput>(a.prog.instructions[row.tag - 1].op) &&
                            std::get<program::DigitalOutput>(a.prog.instructions[row.tag - 1].op).on;
-      EXPECT_EQ(row.dout, cutting ? 1u : 0u) << "jerk " << jerk << " row " << r << " tag " << row.tag;
+      if (row.path_v > 0)
+        EXPECT_EQ(row.dout, cutting ? 1u : 0u) << "jerk " << jerk << " row " << r << " tag " << row.tag;
     }
   }
 }

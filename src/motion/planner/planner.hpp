@@ -156,6 +156,8 @@ class Planner {
   PlanQueue& queue() { return queue_; }
   const PlanQueue& queue() const { return queue_; }
   const MachineLimits& limits() const { return limits_; }
+  // A motion no longer than this makes no block: push() takes it and plans nothing.
+  double min_length() const { return min_length_mm_; }
   const PlannerConfig& config() const { return config_; }
   // Speed the backward pass plans a block for: hard cap, and the feed at the largest override.
   double plan_cap_mm_s(const Block& b) const;

@@ -808,3 +808,51 @@ TEST(Channel, P10_M67SetsItsAnalogOutputWhereTheNextMoveBegins) {
   EXPECT_EQ(r.ch.analog_outputs()[2], -1.0);  // M68
   EXPECT_EQ(r.interp.setpoint().pos[0], 30.0);
 }
+
+// An output on every short line (a laser's power at each segment, hundreds in the window at once):
+// the path flows at the feed as without them (which merges the lines the outputs keep apart), the
+// outputs between two moves take their last values together, a zero-length move after an M62 does
+// not lose it, and none switches while the path stands.
+TEST(Channel, P10_OutputsOnEveryMoveFlowAndSwitchInOrder) {
+  std::vector<program::Op> with, without;
+  with.push_back(program::Linear{xy(0, 0), 50});  // zero length: the output waits for a real move
+  for (int i = 1; i <= 300; ++i) {
+    with.push_back(program::AnalogOutput{0, static_cast<double>(i), true});
+    with.push_back(program::AnalogOutput{0, static_cast<double>(i) + 0.5, true});  // the last one counts
+    if (i == 150) with.push_back(program::DigitalOutput{2, true, true});
+    if (i == 1) with.push_back(program::Linear{xy(0, 0), 50});
+    with.push_back(program::Linear{xy(0.1 * i, 0.001 * (i % 2)), 50});
+    without.push_back(program::Linear{xy(0.1 * i, 0.001 * (i % 2)), 50});
+  }
+  with.push_back(program::ProgramEnd{});
+  without.push_back(program::ProgramEnd{});
+  const auto pw = prog(with), po = prog(without);
+  Rig a, b;
+  a.ch.load(pw);
+  b.ch.load(po);
+  ASSERT_TRUE(a.ch.start({}));
+  ASSERT_TRUE(b.ch.start({}));
+  a.sig.feed_override_permille = 0;  // held at rest on the first move: nothing switches yet
+  for (int k = 0; k < 50; ++k) a.cycle();
+  EXPECT_EQ(a.ch.analog_outputs()[0], 0.0);
+  a.sig.feed_override_permille = 1000;
+  a.cycles = 0;
+  double last = 0, slowest = 1e9;
+  bool in_order = true;
+  b.run();
+  while (a.ch.state() == control::ChannelState::Running && a.cycles < 100000) {
+    a.cycle();
+    const double x = a.interp.setpoint().pos[0];
+    if (x > 2 && x < 28) slowest = std::min(slowest, a.interp.setpoint().path_v);
+    const double v = a.ch.analog_outputs()[0];
+    in_order = in_order && v >= last && (v == 0 || v == std::floor(v) + 0.5);
+    // The power of segment i is set once the setpoint is on it: x beyond 0.1·(i − 1).
+    if (v > 0) EXPECT_GT(a.interp.setpoint().pos[0], 0.1 * (std::floor(v) - 1) - 1e-12) << "power " << v;
+    last = v;
+  }
+  EXPECT_TRUE(in_order);
+  EXPECT_GT(slowest, 49.0);              // at its feed: no stop, no slow-down at the outputs
+  EXPECT_LE(a.cycles, b.cycles + 2);     // as long as the run without them
+  EXPECT_EQ(a.ch.analog_outputs()[0], 300.5);
+  EXPECT_EQ(a.ch.digital_outputs(), std::uint64_t{1} << 2);
+}
