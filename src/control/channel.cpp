@@ -47,8 +47,7 @@ void Channel::load(const program::Program& prog) {
   state_ = ChannelState::Idle;
   pc_ = 0;
   curve_next_ = 0;
-  batches_.assign(planner_.queue().capacity() + 1, OutputBatch{});
-  min_length_mm_ = planner_.min_length();
+  batches_.reserve(planner_.queue().capacity() + 1);
   // Curves are built from where the program's previous motion ends: walk the programmed geometry.
   const auto n = prog.instructions.size();
   // Each instruction's pieces go straight into one compact store, in program order (a run's lines
@@ -239,7 +238,7 @@ bool Channel::start(const core::Vec& from) {
   path_tolerance_mm_ = -1;
   dwell_left_s_ = 0;
   pops_at_cycle_ = planner_.queue().ring().pops();  // what braked before is not this path's pace
-  batch_n_ = 0;
+  batches_.clear();
   batch_open_ = false;
   state_ = ChannelState::Running;
   return true;
@@ -266,10 +265,9 @@ void Channel::apply(const OutputBatch& b) {
 // rt-safe
 void Channel::sync_outputs() {
   const auto& sp = interp_.setpoint();
-  while (batch_n_ > 0 && sp.moving && sp.path_v > 0 && sp.tag > batches_[batch_head_].after) {
-    apply(batches_[batch_head_]);
-    batch_head_ = (batch_head_ + 1) % batches_.size();
-    --batch_n_;
+  while (!batches_.empty() && sp.moving && sp.path_v > 0 && sp.tag > batches_.front().after) {
+    apply(batches_.front());
+    batches_.pop();
   }
 }
 
@@ -380,9 +378,10 @@ void Channel::update(double dt_s) {
       double feed = 0;
       if (const auto* l = std::get_if<program::Linear>(&op)) feed = l->feed_mm_s;
       if (const auto* a = std::get_if<program::Arc>(&op)) feed = a->feed_mm_s;
+      const std::uint64_t taken = planner_.pushes_taken();
       const auto r = planner_.push(request(feed, std::holds_alternative<program::Rapid>(op), !batch_open_, pc_));
       if (r != motion::PlanResult::Ok) return fail(motion::to_string(r), r);
-      if (req_.geom.length > min_length_mm_) batch_open_ = false;  // a zero-length move makes no block
+      if (planner_.pushes_taken() != taken) batch_open_ = false;  // a zero-length move is not the batch's move
       plan_pos_ = req_.geom.end;
       ++pc_;
       continue;
@@ -391,11 +390,11 @@ void Channel::update(double dt_s) {
     // after it to begin, and the path goes on through them (LinuxCNC's motion-synchronised outputs).
     if (synced_output(op)) {
       if (!batch_open_) {
-        if (batch_n_ == batches_.size()) return;  // wait for the path to reach the batches before
-        batches_[(batch_head_ + batch_n_++) % batches_.size()] = OutputBatch{};
+        if (batches_.full()) return;  // wait for the path to reach the batches before
+        batches_.push(OutputBatch{});
         batch_open_ = true;
       }
-      OutputBatch& b = batches_[(batch_head_ + batch_n_ - 1) % batches_.size()];
+      OutputBatch& b = batches_.back();
       b.after = pc_;
       if (const auto* d = std::get_if<program::DigitalOutput>(&op)) b.add(*d);
       if (const auto* a = std::get_if<program::AnalogOutput>(&op)) b.add(*a);
@@ -429,11 +428,11 @@ void Channel::update(double dt_s) {
         set_override();
       }
       ++pc_;
-    } else if (const auto* o = std::get_if<program::DigitalOutput>(&op)) {
-      set_output(o->index, o->on);  // M64/M65 at once
-      ++pc_;
-    } else if (const auto* a = std::get_if<program::AnalogOutput>(&op)) {
-      if (static_cast<std::size_t>(a->index) < aout_.size()) aout_[a->index] = a->value;  // M68
+    } else if (std::holds_alternative<program::DigitalOutput>(op) || std::holds_alternative<program::AnalogOutput>(op)) {
+      OutputBatch now;  // M64/M65/M68 at once
+      if (const auto* d = std::get_if<program::DigitalOutput>(&op)) now.add(*d);
+      if (const auto* a = std::get_if<program::AnalogOutput>(&op)) now.add(*a);
+      apply(now);
       ++pc_;
     } else if (std::holds_alternative<program::ProgramEnd>(op)) {
       tool_on_ = false;  // program end switches the tool off (RS274: M2/M30 imply M5)

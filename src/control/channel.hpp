@@ -7,10 +7,10 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
-#include <optional>
 #include <vector>
 
 #include "control/motion_signals.hpp"
+#include "core/ring.hpp"
 #include "motion/geometry/curve_result.hpp"
 #include "motion/geometry/segment_store.hpp"
 #include "motion/interp/interpolator.hpp"
@@ -146,18 +146,13 @@ class Channel {
     void add(const program::DigitalOutput& d);
     void add(const program::AnalogOutput& a);
   };
-  // A ring sized at load to the planner's window (each batch but the newest waits for a block in
-  // it) and one more: batch_head_, batch_n_.
-  std::vector<OutputBatch> batches_;
-  std::size_t batch_head_ = 0, batch_n_ = 0;
+  // Sized at load to the planner's window (each batch but the newest waits for a block in it) and
+  // one more.
+  core::Ring<OutputBatch> batches_;
   // The newest batch still takes outputs: no motion has made a block since. The motion after it is
   // not merged into the line before (it begins a block of its own).
   bool batch_open_ = false;
-  double min_length_mm_ = 0;  // a motion no longer than this makes no block (Planner::min_length_mm)
   void apply(const OutputBatch& b);
-  void set_output(int index, bool on) {
-    if (index >= 0 && index < 64) dout_ = on ? dout_ | (std::uint64_t{1} << index) : dout_ & ~(std::uint64_t{1} << index);
-  }
   const char* fault_ = "";
   motion::PlanResult plan_error_ = motion::PlanResult::Ok;
   std::uint32_t fault_pc_ = 0;

@@ -75,6 +75,7 @@ PlanResult Planner::push(const PathRequest& req) {
   if (!std::isfinite(sl.v_max_mm_s) || !std::isfinite(sl.a_max_mm_s2) || !(sl.v_max_mm_s > 0) ||
       !(sl.a_max_mm_s2 > 0))
     return PlanResult::Infeasible;
+  ++pushes_taken_;
   // Validated: now act. Lines pass through the merge stage; anything else first releases it.
   if (queue_.has_stage_ && merge(req)) return PlanResult::Ok;
   const PlanResult r = emit_stage();

@@ -156,8 +156,8 @@ class Planner {
   PlanQueue& queue() { return queue_; }
   const PlanQueue& queue() const { return queue_; }
   const MachineLimits& limits() const { return limits_; }
-  // A motion no longer than this makes no block: push() takes it and plans nothing.
-  double min_length() const { return min_length_mm_; }
+  // Pushes that gave the path something to move (a zero-length one is taken and plans nothing).
+  std::uint64_t pushes_taken() const { return pushes_taken_; }
   const PlannerConfig& config() const { return config_; }
   // Speed the backward pass plans a block for: hard cap, and the feed at the largest override.
   double plan_cap_mm_s(const Block& b) const;
@@ -210,6 +210,7 @@ class Planner {
   PlanQueue queue_;
   bool limits_raised_ = false;  // limit_for_stop changed a block since the last restore_limits()
   double min_length_mm_;  // min_length_mm(limits_)
+  std::uint64_t pushes_taken_ = 0;
   // The interpolator passes at most InterpolatorConfig::max_blocks_per_cycle (512) blocks a cycle.
   // A block is capped at the speed at which the kDenseBlocks blocks ending with it take one cycle
   // (dense_cap), so a cycle never needs more than the budget (half of it: the speed may change
