@@ -36,6 +36,7 @@ struct PathMode {
   double tolerance_mm = 0;        // G64 P
   double naive_tolerance_mm = 0;  // G64 Q: collinear short moves may be merged within this
   bool continuous = false;        // G23 (P-12 continuous_active follows it)
+  bool operator==(const PathMode&) const = default;
 };
 
 // S word (G97 rpm) or constant surface speed (G96 S in m/min or ft/min converted to m/min, D max rpm).

@@ -334,8 +334,7 @@ std::optional<LineError> Exec::modes() {
     }
     // Until the program names a path mode the machine's configured default applies (planner.tolerance_mm),
     // so the first path word is always emitted, even when it equals the interpreter's initial state.
-    const bool same = st.path_programmed && pm.kind == st.path.kind && pm.tolerance_mm == st.path.tolerance_mm &&
-                      pm.naive_tolerance_mm == st.path.naive_tolerance_mm && pm.continuous == st.path.continuous;
+    const bool same = st.path_programmed && pm == st.path;
     st.path = pm;
     st.path_programmed = true;
     if (!same) emit(pm);

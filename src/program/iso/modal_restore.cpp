@@ -7,9 +7,7 @@ namespace softmc::program::iso {
 namespace {
 
 bool same_path(const ModalState& a, const ModalState& b) {
-  return a.path_programmed == b.path_programmed && a.path.kind == b.path.kind &&
-         a.path.tolerance_mm == b.path.tolerance_mm && a.path.naive_tolerance_mm == b.path.naive_tolerance_mm &&
-         a.path.continuous == b.path.continuous;
+  return a.path_programmed == b.path_programmed && a.path == b.path;
 }
 
 }  // namespace

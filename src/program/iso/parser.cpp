@@ -280,8 +280,6 @@ void ProgramReader::read_line(std::size_t f, std::size_t pc) {
     return fail(f, pc, line, std::move(*e));
   }
   emit_messages(f, pc, block_.col);
-  for (const auto& [n, v] : out_.param_writes) params_.set(n, v);
-  if (out_.m66) params_.set_runtime_only(kM66Result);
   deliver(core::SourceLoc{static_cast<std::uint16_t>(f), line_no(pc), block_.col}, before);
   if (!nurbs_before && state_.motion == Motion::Nurbs && block_.motion)  // where a block left open is reported
     nurbs_open_ = core::SourceLoc{static_cast<std::uint16_t>(f), line_no(pc), block_.motion->col};
@@ -311,8 +309,10 @@ void ProgramReader::emit_messages(std::size_t f, std::size_t pc, std::uint32_t c
   }
 }
 
-// The block's ops to the program, through cutter compensation while it is on.
+// The block's parameter writes, then its ops to the program, through cutter compensation while it is on.
 void ProgramReader::deliver(const core::SourceLoc& loc, const core::Vec& before) {
+  for (const auto& [n, v] : out_.param_writes) params_.set(n, v);
+  if (out_.m66) params_.set_runtime_only(kM66Result);
   for (std::size_t i = 0; i <= out_.ops.size(); ++i) {
     if (out_.comp && out_.comp->at == i) switch_comp(loc, before);
     if (i < out_.ops.size()) put(Instruction{loc, std::move(out_.ops[i])});

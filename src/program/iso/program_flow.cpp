@@ -442,8 +442,7 @@ void ProgramReader::m99(const OEntry& e, std::size_t& f, std::size_t& pc) {
     // Each pass is a call of its own (LinuxCNC): M73's modes come back at its M99, and what M70/M73
     // saved is gone for the next pass.
     autorestore(f, pc, e.o.col);
-    top.saved_modes.reset();
-    top.autorestore = false;
+    top.forget_modes();
     top.loops.clear();
     pc = top.program_line + 1;
     return;
@@ -477,8 +476,7 @@ void ProgramReader::modal_state_m(std::size_t f, std::size_t pc, const Word& m) 
       level.autorestore = level.autorestore || (n == 73 && frames_.size() > 1);
       return;
     case 71:
-      level.saved_modes.reset();
-      level.autorestore = false;
+      level.forget_modes();
       return;
     default:
       if (!level.saved_modes) {
@@ -526,7 +524,6 @@ bool ProgramReader::restore_modes(const ModalState& saved, std::size_t f, std::s
   const core::SourceLoc loc{static_cast<std::uint16_t>(f), line_no(pc), col};
   for (auto& o : outs) {
     out_ = std::move(o);
-    for (const auto& [num, v] : out_.param_writes) params_.set(num, v);
     deliver(loc, before);
   }
   for (auto& op : exact) put(Instruction{loc, std::move(op)});

@@ -54,6 +54,10 @@ struct CallFrame {
   // M73 also restores it when the call returns (endsub, return, each pass's M99).
   std::optional<ModalState> saved_modes;
   bool autorestore = false;
+  void forget_modes() {  // M71, and each M98 pass's end
+    saved_modes.reset();
+    autorestore = false;
+  }
 };
 
 // Reads one program (parser.cpp's diagram): the lines of its files, plain blocks through the

@@ -198,9 +198,7 @@ TEST(IsoOffsets, ToolParametersAreTheLoadedToolsTableEntry) {
   const auto p = parse_ok("(DEBUG, z #5400 #5403 #5410)\nT1 M6\n(DEBUG, a #5400 #5403 #5410)\nG43\n(DEBUG, b #5403)\n"
                           "T2 M6 G43\nG49\n(DEBUG, g #5400 #5403 #5410)\n",
                           opt);
-  std::vector<std::string> texts;
-  for (const auto& ins : p.instructions)
-    if (const auto* m = std::get_if<Message>(&ins.op)) texts.push_back(m->text);
+  const auto texts = messages(p);
   const std::vector<std::string> want = {" z 0.000000 0.000000 0.000000", " a 1.000000 1.000000 0.062500", " b 1.000000",
                                          " g 2.000000 0.500000 0.250000"};
   EXPECT_EQ(texts, want);

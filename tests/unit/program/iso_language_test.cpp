@@ -297,19 +297,11 @@ TEST(IsoMessages, MsgDebugAndPrintComments) {
   EXPECT_TRUE(std::holds_alternative<Rapid>(p.instructions[3].op));
 }
 
-// The texts of a program's messages, in order.
-std::vector<std::string> message_texts(const Program& p) {
-  std::vector<std::string> out;
-  for (const auto& ins : p.instructions)
-    if (const auto* m = std::get_if<Message>(&ins.op)) out.push_back(m->text);
-  return out;
-}
-
 TEST(IsoMessages, DebugShowsTheValuesAfterTheLinesAssignments) {
   // LinuxCNC runs a block's comments after the line's parameters are set: rs274 -g prints
   // MESSAGE(" value is 5.250000") for "#1=5.25 (DEBUG, value is #1)".
   const auto p = parse_ok("#1=5.25 (DEBUG, value is #1)\n#<_g>=3 (PRINT,g=#<_g>)\n");
-  EXPECT_EQ(message_texts(p), (std::vector<std::string>{" value is 5.250000", "g=3.000000"}));
+  EXPECT_EQ(messages(p), (std::vector<std::string>{" value is 5.250000", "g=3.000000"}));
 }
 
 TEST(IsoMessages, DebugSubstitutesAsLinuxCnc) {
@@ -322,7 +314,7 @@ TEST(IsoMessages, DebugSubstitutesAsLinuxCnc) {
   const std::vector<std::string> want = {"a 1.500000 2 b", "c 1.500000  d", "e 1.500000x", "f #[1] g",
                                          "i 1.500000.5 j", "k # 1 l", "m 7.000000", "n #1.500000",
                                          "o ###### p", "q ###### r", "s 3.000000 t"};
-  EXPECT_EQ(message_texts(p), want);
+  EXPECT_EQ(messages(p), want);
 }
 
 TEST(IsoMessages, DebugPrintsValuesUnder0_0001AsZero) {
@@ -330,7 +322,7 @@ TEST(IsoMessages, DebugPrintsValuesUnder0_0001AsZero) {
   // " -0.000100", 1.000001 as " 1.000001".
   const auto p = parse_ok("#1=0.00009\n(DEBUG, #1)\n#1=-0.0000006\n(DEBUG, #1)\n#1=0.0001\n(DEBUG, #1)\n"
                           "#1=-0.0001\n(DEBUG, #1)\n#1=1.000001\n(DEBUG, #1)\n");
-  EXPECT_EQ(message_texts(p),
+  EXPECT_EQ(messages(p),
             (std::vector<std::string>{" 0.000000", " 0.000000", " 0.000100", " -0.000100", " 1.000001"}));
 }
 
@@ -338,14 +330,14 @@ TEST(IsoMessages, TheCommaFollowsTheKeyword) {
   // LinuxCNC's convert_comment: spaces may come before MSG/DEBUG/PRINT but not between it and the
   // comma. rs274 -g: "(MSG , s)" is COMMENT("MSG , s"), "(  MSG, t)" MESSAGE(" t").
   const auto p = parse_ok("(MSG , s)\n(  MSG, t)\n(DEBUG , u)\n(\tMSG, tab)\n(PRINT , v)\n(MSG,)\n(MSG)\n");
-  EXPECT_EQ(message_texts(p), (std::vector<std::string>{" t", " tab", ""}));
+  EXPECT_EQ(messages(p), (std::vector<std::string>{" t", " tab", ""}));
 }
 
 TEST(IsoMessages, Parameter5599SwitchesDebugOutput) {
   // LinuxCNC: #5599 (1 at start) is writable; 0 silences DEBUG (not PRINT, not MSG). rs274 -g:
   // MESSAGE(" a 1.000000"), then " c" printed, MESSAGE(" d"), MESSAGE(" e").
   const auto p = parse_ok("(DEBUG, a #5599)\n#5599=0\n(DEBUG, b)\n(PRINT, c)\n(MSG, d)\n#5599=1\n(DEBUG, e)\n");
-  EXPECT_EQ(message_texts(p), (std::vector<std::string>{" a 1.000000", " c", " d", " e"}));
+  EXPECT_EQ(messages(p), (std::vector<std::string>{" a 1.000000", " c", " d", " e"}));
 }
 
 TEST(IsoMessages, OnlyTheLastCommentOfALineIsActive) {
@@ -354,7 +346,7 @@ TEST(IsoMessages, OnlyTheLastCommentOfALineIsActive) {
   // MESSAGE(" seventh") (a ';' comment does not count).
   const auto p = parse_ok("(MSG, first) (MSG, second)\n(MSG, third) (plain)\n(plain) (MSG, fourth)\n"
                           "G0 X1 (MSG, fifth) Y2 (DEBUG, sixth)\n(MSG, seventh) ; (MSG, eighth)\n");
-  EXPECT_EQ(message_texts(p), (std::vector<std::string>{" second", " fourth", " sixth", " seventh"}));
+  EXPECT_EQ(messages(p), (std::vector<std::string>{" second", " fourth", " sixth", " seventh"}));
 }
 
 TEST(IsoMessages, AbortStopsTheProgramWithItsText) {
