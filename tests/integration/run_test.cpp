@@ -127,7 +127,8 @@ TEST(Run, GcodeExamplesRunOnTheRouter) {
   // The CAM-like examples cut below the work surface: they fit the router, and run to their end.
   const auto cfg = machine::load_machine(kSrc + "/examples/machines/router.toml");
   for (const char* f : {"examples/gcode/pocket.ngc", "examples/gcode/drilling.ngc", "examples/gcode/profile_arcs.ngc",
-                        "examples/gcode/parametric_flange.ngc", "examples/gcode/fanuc_subprograms.ngc"}) {
+                        "examples/gcode/parametric_flange.ngc", "examples/gcode/fanuc_subprograms.ngc",
+                        "examples/gcode/laser_engrave.ngc"}) {
     const auto prog = load(f);
     const auto res = app::simulate(prog, cfg);
     EXPECT_TRUE(res.ok) << f << ": " << res.result;
