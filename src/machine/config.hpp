@@ -32,6 +32,7 @@ struct AxisConfig {
   double switch_overtravel_mm = 2.0;  // a limit switch sits this far beyond the travel end
   HomeSide home_side = HomeSide::Negative;
   double home_backoff_mm = 30.0;
+  double home_vel_mm_s = 0;           // homing's search speed (0: a tenth of max_vel_mm_s)
 
   double mm_per_count() const { return mm_per_rev / counts_per_rev; }
   friend bool operator==(const AxisConfig&, const AxisConfig&) = default;

@@ -54,7 +54,7 @@ inline const std::array<ConfigKey<MachineConfig>, 4> kMachineKeys{{
 }};
 
 // Keys of an [axes.<letter>] table: exactly the AxisConfig fields (name and index come from the letter).
-inline const std::array<ConfigKey<AxisConfig>, 16> kAxisKeys{{
+inline const std::array<ConfigKey<AxisConfig>, 17> kAxisKeys{{
     {"enabled", &AxisConfig::enabled, ConfigRule::None},
     {"min_mm", &AxisConfig::min_mm, ConfigRule::Finite},
     {"max_mm", &AxisConfig::max_mm, ConfigRule::Finite},
@@ -71,6 +71,7 @@ inline const std::array<ConfigKey<AxisConfig>, 16> kAxisKeys{{
     {"switch_overtravel_mm", &AxisConfig::switch_overtravel_mm, ConfigRule::NonNegative},
     {"home_side", &AxisConfig::home_side, ConfigRule::None},
     {"home_backoff_mm", &AxisConfig::home_backoff_mm, ConfigRule::NonNegative},
+    {"home_vel_mm_s", &AxisConfig::home_vel_mm_s, ConfigRule::NonNegative},
 }};
 
 // Keys of the [spc] table (spc200.md; docs/spc.md).

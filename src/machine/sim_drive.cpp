@@ -10,6 +10,19 @@ SimDrive::SimDrive(const AxisConfig& cfg, double start_mm) : cfg_(cfg), x_(start
   last_setpoint_ = start_mm;
 }
 
+SimDrive::SimDrive(const AxisConfig& cfg, double reading_mm, double physical_mm)
+    : cfg_(cfg), x_(physical_mm), x0_(physical_mm), r0_(reading_mm) {
+  measured_ = reading_mm;
+  last_setpoint_ = reading_mm;
+}
+
+// rt-safe
+void SimDrive::shift_reference(double shift_mm) {
+  r0_ += shift_mm;
+  measured_ += shift_mm;
+  last_setpoint_ += shift_mm;
+}
+
 double SimDrive::quantise(double x) const {
   const double q = cfg_.mm_per_count();
   return std::round(x / q) * q;
@@ -27,7 +40,7 @@ double SimDrive::update(double setpoint_mm, double setpoint_vel_mm_s, double dt_
   const double dv = v_ - v_cmd;
   x_ += v_cmd * dt_s + dv * tau * (1.0 - e);
   v_ = v_cmd + dv * e;
-  measured_ = quantise(x_);
+  measured_ = quantise(x_ - x0_) + r0_;
   return measured_;
 }
 
