@@ -2,6 +2,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fmt/format.h>
@@ -20,6 +21,7 @@
 #include "report/plot.hpp"
 #include "report/summary.hpp"
 #include "gcode_setup.hpp"
+#include "homing_run.hpp"
 #include "moves.hpp"
 #include "simulation.hpp"
 #include "spc_admin.hpp"
@@ -73,10 +75,13 @@ std::string rejection_json(const std::string& path, const std::string& machine, 
 
 // Parses a program and checks its path against the travel; every diagnostic goes to `diags`.
 // Returns nothing on any error.
+// `start`: the machine position the program starts from (default: the origin).
 std::optional<program::Program> load_program(const std::string& path, const machine::MachineConfig& cfg,
-                                             core::Diagnostics& diags) {
+                                             core::Diagnostics& diags, const core::Vec* start = nullptr) {
   const auto setup = app::gcode_setup(cfg);
-  auto r = program::iso::parse_file(path, setup->options());
+  auto popt = setup->options();
+  if (start) popt.start = *start;
+  auto r = program::iso::parse_file(path, popt);
   // Validate the whole thing, then act: the path must stay inside the travel (P-9) before anything moves.
   if (r.program) {
     auto travel = control::check_travel(*r.program, cfg.limits());
@@ -108,12 +113,79 @@ class ProgressBar {
   int last_ = -1;
 };
 
+// `softmc run --home`: the start-up sequence first (T-4, T-5), its figures on stdout (text) or as the
+// summary's "homing" member (JSON).
+struct HomeArgs {
+  bool home = false;
+  std::vector<std::string> power_up;  // AXIS=MM
+};
+
+core::Vec power_up_positions(const HomeArgs& h, const machine::MachineConfig& cfg) {
+  core::Vec p = app::mid_travel(cfg);
+  for (const auto& w : h.power_up) {
+    const auto eq = w.find('=');
+    const auto ax = eq == 1 ? core::axis_from_letter(w[0]) : std::nullopt;
+    if (!ax || !cfg.axis(*ax))
+      throw std::runtime_error("--power-up " + w + ": expected AXIS=MM with an axis of the machine (X=120)");
+    std::size_t used = 0;
+    double v = 0;
+    try {
+      v = std::stod(w.substr(2), &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != w.size() - 2 || !std::isfinite(v))
+      throw std::runtime_error("--power-up " + w + ": expected AXIS=MM with a number of mm (X=120)");
+    p[*ax] = v;
+  }
+  return p;
+}
+
+nlohmann::ordered_json homing_json(const app::HomingRunResult& h, const machine::MachineConfig& cfg) {
+  nlohmann::ordered_json axes = nlohmann::ordered_json::object();
+  for (const auto& a : cfg.axes) {
+    if (!a.enabled) continue;
+    const auto& r = h.axis[a.index];
+    axes[std::string(1, core::letter(a.index))] = {{"homed", r.homed}, {"power_up_mm", r.power_up_mm},
+                                                   {"switch_mm", r.switch_mm}, {"position_mm", r.position_mm},
+                                                   {"true_mm", r.true_mm}, {"reference_error_mm", r.reference_error_mm},
+                                                   {"time_s", r.time_s}};
+  }
+  return {{"result", h.result}, {"time_s", h.time_s}, {"axes", axes}};
+}
+
+std::string homing_text(const app::HomingRunResult& h, const machine::MachineConfig& cfg) {
+  if (!h.ok) return fmt::format("homing       failed: {}\n", h.result);
+  std::string s = fmt::format("homing       {} in {:.3f} s\n", h.result, h.time_s);
+  for (const auto& a : cfg.axes) {
+    if (!a.enabled) continue;
+    const auto& r = h.axis[a.index];
+    if (!r.homed) {
+      s += fmt::format("  {}          not homed (no limit switches): reading 0 where it stands\n", core::letter(a.index));
+      continue;
+    }
+    s += fmt::format("  {}          switch at {:.3f} mm, now at {:.3f} mm, reference error {:+.4f} mm, done at {:.3f} s\n",
+                     core::letter(a.index), r.switch_mm, r.position_mm, r.reference_error_mm, r.time_s);
+  }
+  return s;
+}
+
 int cmd_run(const std::string& path, const MachineArgs& margs, const std::string& plot, const std::string& trace_csv,
-            bool json, const std::string& stimulus_file) {
+            bool json, const std::string& stimulus_file, const HomeArgs& home_args) {
   const auto cfg = margs.load();
   const std::string machine_name = margs.file.empty() ? cfg.name + " (built-in)" : margs.file;
+  std::optional<app::HomingRunResult> homed;
+  if (home_args.home || !home_args.power_up.empty()) {
+    homed.emplace(app::run_homing(cfg, power_up_positions(home_args, cfg)));
+    if (!homed->ok) {
+      if (json) std::cout << homing_json(*homed, cfg).dump() << '\n';
+      else std::cout << homing_text(*homed, cfg);
+      std::cerr << "softmc: " << homed->result << '\n';
+      return 2;
+    }
+  }
   core::Diagnostics diags;
-  const auto prog = load_program(path, cfg, diags);
+  const auto prog = load_program(path, cfg, diags, homed ? &homed->position : nullptr);
   // Every diagnostic in the JSON object of a rejected program; on stderr the first few.
   if (!prog && json) std::cout << rejection_json(path, machine_name, diags) << '\n';
   else print_diagnostics(diags, kRunDiagnosticsShown, path);
@@ -128,6 +200,7 @@ int cmd_run(const std::string& path, const MachineArgs& margs, const std::string
   if (!prog) return 1;
   app::SimOptions opt;
   if (stimulus) opt.stimulus = &*stimulus;
+  if (homed) opt.drives = &homed->drives;
   ProgressBar bar(!json);
   opt.on_progress = [&](double f) { bar(f); };
   // The summary and the CSV are made row by row: only a plot keeps the trace in memory.
@@ -159,8 +232,15 @@ int cmd_run(const std::string& path, const MachineArgs& margs, const std::string
     report::write_plot(plot, *prog, cfg, res.trace, events);
   }
   if (json) {
-    std::cout << report::to_json(summary) << '\n';
+    if (homed) {
+      auto j = nlohmann::ordered_json::parse(report::to_json(summary));
+      j["homing"] = homing_json(*homed, cfg);
+      std::cout << j.dump() << '\n';
+    } else {
+      std::cout << report::to_json(summary) << '\n';
+    }
   } else {
+    if (homed) std::cout << homing_text(*homed, cfg);
     std::cout << report::to_text(summary);
     if (!trace_csv.empty()) std::cout << "trace        " << trace_csv << '\n';
     if (!plot.empty()) std::cout << "plot         " << plot << '\n';
@@ -249,6 +329,12 @@ int main(int argc, char** argv) {
   run->add_option("--plc", spc_args.plc, "SPC: orders file for the reference PLC of S-10 (time, task, line)");
   run->add_option("--registers", spc_args.registers, "SPC: SQLite file of the retentive registers (:memory: = none)");
   run->add_option("--until", spc_args.until_s, "SPC: run this many seconds of virtual time");
+  HomeArgs home_args;
+  run->add_flag("--home", home_args.home,
+                "G-code: home every axis with limit switches first (T-4), then run the program from there");
+  run->add_option("--power-up", home_args.power_up,
+                  "G-code, with --home: where a simulated axis stands at power-up, AXIS=MM (default: mid-travel)")
+      ->delimiter(',');
 
   std::vector<std::string> check_progs;
   auto* check = app.add_subcommand("check", "parse and validate programs without moving anything");
@@ -282,7 +368,7 @@ int main(int argc, char** argv) {
       spc_args.machine_label = run_m.file.empty() ? "cutting_table (built-in)" : run_m.file;
       return app::run_spc_command(spc_args, run_m.load());
     }
-    if (*run) return cmd_run(run_prog, run_m, plot, trace_csv, json, spc_args.stimulus);
+    if (*run) return cmd_run(run_prog, run_m, plot, trace_csv, json, spc_args.stimulus, home_args);
     if (*check) return cmd_check(check_progs, check_m);
     if (*moves) return cmd_moves(moves_prog, moves_m);
     if (*config) {

@@ -35,7 +35,7 @@ motion::InterpolatorConfig interpolator_config(const machine::MachineConfig& cfg
 }  // namespace
 
 Simulation::Simulation(const program::Program& prog, const machine::MachineConfig& cfg,
-                       const control::ChannelStimulus* stimulus)
+                       const control::ChannelStimulus* stimulus, Drives* drives)
     : prog_(prog),
       cfg_(cfg),
       planner_(cfg.limits(), cfg.planner_window(), planner_config(cfg)),
@@ -45,8 +45,13 @@ Simulation::Simulation(const program::Program& prog, const machine::MachineConfi
   channel_.load(prog);
   if (stimulus) player_.emplace(*stimulus);
   // One drive per configured axis; the machine starts where the program assumes.
-  for (const auto& a : cfg_.axes)
-    if (a.enabled) drives_[a.index] = std::make_unique<machine::SimDrive>(a, prog.start[a.index]);
+  for (const auto& a : cfg_.axes) {
+    if (!a.enabled) continue;
+    if (drives && (*drives)[a.index])
+      drives_[a.index] = std::move((*drives)[a.index]);
+    else
+      drives_[a.index] = std::make_unique<machine::SimDrive>(a, prog.start[a.index]);
+  }
 
   // The cycle's fixed order (docs/code_flow.md). The drives are read implicitly: SimDrive keeps its
   // measured position from the last write, which is what a real drive's feedback would deliver.
@@ -160,7 +165,7 @@ SimResult simulate(const program::Program& prog, const machine::MachineConfig& c
     res.result = travel.front().format();
     return res;
   }
-  Simulation sim(prog, cfg, opt.stimulus);
+  Simulation sim(prog, cfg, opt.stimulus, opt.drives);
   const auto take = [&] {
     if (!opt.record && !opt.on_row) return;
     const report::TraceRow row = sim.row();

@@ -26,8 +26,11 @@ namespace softmc::app {
 class Simulation {
  public:
   // `stimulus` (may be null; must outlive the simulation): the PLC's motion signals over time.
+  // `drives` (may be null): the simulated drives to run on, taken over as they are (after homing,
+  // run_homing); by default each starts at rest where the program assumes.
+  using Drives = std::array<std::unique_ptr<machine::SimDrive>, core::kMaxAxes>;
   Simulation(const program::Program& prog, const machine::MachineConfig& cfg,
-             const control::ChannelStimulus* stimulus = nullptr);
+             const control::ChannelStimulus* stimulus = nullptr, Drives* drives = nullptr);
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
 
@@ -77,6 +80,9 @@ struct SimOptions {
   double max_time_s = 24 * 3600.0;           // a program still running then is reported as a timeout
   std::function<void(double fraction)> on_progress;  // called now and then with 0..1
   const control::ChannelStimulus* stimulus = nullptr;  // the PLC's motion signals over time (--stimulus)
+  // The drives to run on (taken over: after homing, run_homing's), or null: each at rest where the
+  // program starts.
+  std::array<std::unique_ptr<machine::SimDrive>, core::kMaxAxes>* drives = nullptr;
 };
 
 struct SimResult {

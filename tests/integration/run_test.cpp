@@ -11,6 +11,8 @@
 
 #include "cli_run.hpp"
 #include "machine/config.hpp"
+#include "machine/homing.hpp"
+#include "homing_run.hpp"
 #include "program/iso/parser.hpp"
 #include "report/summary.hpp"
 #include "simulation.hpp"
@@ -718,4 +720,50 @@ TEST(Run, P10_M62AndM63SwitchTheBeamWithoutStoppingThePath) {
         EXPECT_EQ(row.dout, cutting ? 1u : 0u) << "jerk " << jerk << " row " << r << " tag " << row.tag;
     }
   }
+}
+
+// T-4/T-5: the start-up sequence homes every axis with switches, and the program then runs from
+// where homing left the machine on the same drives (their reference kept).
+TEST(Run, T4_HomingThenTheProgramRunsFromTheBackOffPoint) {
+  const auto cfg = machine::default_machine();
+  core::Vec power_up = app::mid_travel(cfg);
+  power_up[0] = 417.3;
+  auto h = app::run_homing(cfg, power_up);
+  ASSERT_TRUE(h.ok) << h.result;
+  for (const auto& a : cfg.axes) {
+    if (!a.enabled) continue;
+    EXPECT_TRUE(h.axis[a.index].homed);
+    EXPECT_DOUBLE_EQ(h.position[a.index], machine::homed_mm(a));
+    EXPECT_LE(std::abs(h.axis[a.index].reference_error_mm), a.mm_per_count() + machine::home_speed_mm_s(a) * cfg.period_s);
+  }
+  program::iso::ParseOptions popt;
+  popt.start = h.position;
+  auto r = program::iso::parse("G0 X40 Y30\nG1 X60 F3000\nG1 Y50\nM2\n", "after_homing.ngc", popt);
+  ASSERT_TRUE(r.program);
+  app::SimOptions opt;
+  opt.drives = &h.drives;
+  const auto res = app::simulate(*r.program, cfg, opt);
+  ASSERT_TRUE(res.ok) << res.result;
+  ASSERT_FALSE(res.trace.rows.empty());
+  EXPECT_EQ(res.trace.rows.front().cmd[0], machine::homed_mm(*cfg.axis(0)));
+  const auto sum = report::summarize(*r.program, cfg, res.trace);
+  EXPECT_LE(sum.max_path_deviation_mm, cfg.planner.tolerance_mm + 1e-9);  // the G0 → G1 corner's blend
+  // The drives went on from homing: at the first cycle the reading is within a count of the command.
+  EXPECT_LE(std::abs(res.trace.rows.front().act[0] - res.trace.rows.front().cmd[0]), cfg.axis(0)->mm_per_count());
+  EXPECT_NEAR(res.trace.rows.back().cmd[0], 60.0, 1e-12);
+  EXPECT_NEAR(res.trace.rows.back().cmd[1], 50.0, 1e-12);
+}
+
+TEST(Run, T4_RunHomeOnTheCliReportsTheHomingAndRunsTheProgram) {
+  const auto r = test::run_softmc("run " + kSrc + "/examples/thesis/square.ngc --home --power-up X=500,Y=10 --json");
+  ASSERT_EQ(r.exit, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["result"], "ok");
+  EXPECT_EQ(j["homing"]["result"], "ok");
+  EXPECT_EQ(j["homing"]["axes"]["X"]["power_up_mm"], 500.0);
+  EXPECT_EQ(j["homing"]["axes"]["X"]["position_mm"], 28.0);
+  EXPECT_EQ(j["homing"]["axes"]["Y"]["switch_mm"], -2.0);
+  const auto bad = test::run_softmc("run " + kSrc + "/examples/thesis/square.ngc --home --power-up W=5");
+  EXPECT_NE(bad.exit, 0);
+  EXPECT_NE(bad.err.find("--power-up W=5"), std::string::npos) << bad.err;
 }
