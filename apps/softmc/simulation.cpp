@@ -30,6 +30,8 @@ motion::InterpolatorConfig interpolator_config(const machine::MachineConfig& cfg
   ic.emergency_accel_scale = cfg.planner.emergency_accel_scale;
   ic.max_horizon_blocks = static_cast<int>(cfg.planner_window());
   ic.guard_simulate = cfg.planner.jerk_guard_simulate;
+  ic.axis_limits = cfg.limits();
+  ic.corner_overlap = cfg.planner.corner_overlap;
   return ic;
 }
 }  // namespace

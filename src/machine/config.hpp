@@ -68,6 +68,7 @@ struct PlannerMachineConfig {
   double smoothing_turn_deg = 20;  // jerk mode: runs of lines turning less than this become a C² spline (0 = off)
   double fillet_share = 0.8;       // jerk mode: a line–arc–line fillet becomes one quintic where it keeps this share of the arc's cap (0 = off)
   bool corner_stops = true;        // a corner is a stop where that is estimated quicker than its blend (false: always blend)
+  bool corner_overlap = true;      // jerk mode: a stop between two lines starts the second while the first still brakes, within P
   bool jerk_guard_simulate = false;  // jerk mode: simulate the fallback brake where the certificate cannot decide
   friend bool operator==(const PlannerMachineConfig&, const PlannerMachineConfig&) = default;
 };

@@ -93,7 +93,7 @@ inline const std::array<ConfigKey<SpcMachineConfig>, 14> kSpcKeys{{
 }};
 
 // Keys of the [planner] table (docs/planner.md).
-inline const std::array<ConfigKey<PlannerMachineConfig>, 9> kPlannerKeys{{
+inline const std::array<ConfigKey<PlannerMachineConfig>, 10> kPlannerKeys{{
     {"tolerance_mm", &PlannerMachineConfig::tolerance_mm, ConfigRule::NonNegative},
     {"lookahead", &PlannerMachineConfig::lookahead, ConfigRule::Queue},
     {"max_feed_override", &PlannerMachineConfig::max_feed_override, ConfigRule::Positive},
@@ -102,6 +102,7 @@ inline const std::array<ConfigKey<PlannerMachineConfig>, 9> kPlannerKeys{{
     {"smoothing_turn_deg", &PlannerMachineConfig::smoothing_turn_deg, ConfigRule::NonNegative},
     {"fillet_share", &PlannerMachineConfig::fillet_share, ConfigRule::UnitInterval},
     {"corner_stops", &PlannerMachineConfig::corner_stops, ConfigRule::None},
+    {"corner_overlap", &PlannerMachineConfig::corner_overlap, ConfigRule::None},
     {"jerk_guard_simulate", &PlannerMachineConfig::jerk_guard_simulate, ConfigRule::None},
 }};
 

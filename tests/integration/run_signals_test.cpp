@@ -199,12 +199,13 @@ std::string surfacing() {
 // limit kept, the stopped position on the path. The stop comes at X17.39 on line 921 (the time it
 // is asked at follows the program's: 7.3 s before sharp corners became stops where that is quicker,
 // "Blend or stop", 6.814 s since, 6.742 s since curves before a stop take the limits of their
-// reach, "Blocks at rest", 6.738 s since the smoothing's centripetal knots; the time to rest depends
+// reach, "Blocks at rest", 6.738 s since the smoothing's centripetal knots, 6.597 s since the row
+// ends' corner overlaps, "Corner overlap": the same point, 0.141 s sooner; the time to rest depends
 // on where).
 TEST(RunSignals, P5_AStopOnASmoothedRunBrakesHarderAsItSlows) {
   const auto cfg = comparison_machine();
   const std::string program = surfacing();
-  const double t_stop = 6.738;
+  const double t_stop = 6.597;
   const auto r = run(fmt::format("{} stop_request 1\n", t_stop), cfg, program);
   ASSERT_TRUE(r.res.stopped) << r.res.result;
   EXPECT_NEAR(at(r, t_stop).cmd[0], 17.39, 0.05);
@@ -221,7 +222,7 @@ TEST(RunSignals, P5_AStopOnASmoothedRunBrakesHarderAsItSlows) {
 TEST(RunSignals, P8_AFeedHoldOnASmoothedRunBrakesHarderAsItSlowsAndGoesOn) {
   const auto cfg = comparison_machine();
   const std::string program = surfacing();
-  const double t_hold = 6.742, t_release = 7.242;
+  const double t_hold = 6.601, t_release = 7.101;  // 6.742 and 7.242 before the corner overlap
   const auto r = run(fmt::format("{} feed_hold 1\n{} feed_hold 0\n", t_hold, t_release), cfg, program);
   ASSERT_TRUE(r.res.ok) << r.res.result;
   EXPECT_GT(at(r, t_hold).path_v, 40);  // at speed on the spline when the hold came

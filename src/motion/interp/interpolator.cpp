@@ -129,6 +129,38 @@ void Interpolator::rest_at_end() {
 // rt-safe
 const Setpoint& Interpolator::step(double dt) {
   queue_.settle();  // the planner's backward pass over what was pushed since the last cycle
+  if (config_.corner_overlap && !tail_.active) begin_overlap(dt);
+  const Setpoint& p = step_path(dt);
+  if (!tail_.active) return p;
+  // The braking line's end beside the path (begin_overlap): its offset from the corner added.
+  tail_.t += dt;
+  const ProfileState x = tail_.otg.at(tail_.t);
+  out_ = p;
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
+    out_.pos[i] += tail_.dir[i] * x.s;
+    out_.vel[i] += tail_.dir[i] * x.v;
+    out_.acc[i] += tail_.dir[i] * x.a;
+  }
+  out_.moving = true;
+  if (tail_.t >= tail_.otg.duration_s()) {
+    // At rest on the corner: the next line gets its limits back, if it is still the front.
+    tail_.active = false;
+    auto& ring = queue_.ring();
+    if (!ring.empty() && ring.pops() == tail_.pops) {
+      Block& g = ring.front();
+      g.a_mm_s2 = tail_.a;
+      g.j_mm_s3 = tail_.j;
+      g.v_cap_mm_s = tail_.v_cap;
+      g.v_split_mm_s = tail_.v_split;
+      ring.touch();
+    }
+    return out_;  // (the tail's last offset is 0: out_ is the path's own setpoint)
+  }
+  return out_;
+}
+
+// rt-safe
+const Setpoint& Interpolator::step_path(double dt) {
   auto& ring = queue_.ring();
   // Jerk mode at rest before a block the planner may still change (the only one, and more may
   // follow: PlanQueue::visible): it is not planned with yet, so the path waits for the next block

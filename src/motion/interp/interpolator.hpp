@@ -17,6 +17,7 @@
 #include "motion/interp/velocity_ramp.hpp"
 #include "motion/limits.hpp"
 #include "motion/planner/plan_queue.hpp"
+#include "motion/profile/otg1.hpp"
 
 namespace softmc::motion {
 
@@ -81,6 +82,14 @@ struct InterpolatorConfig {
   // 2 cycles, then the whole length again after half as many cycles (0 or 1: every cycle certifies
   // its own step; tests, benchmarks).
   int guard_cruise_cycles = 16;
+  // Jerk mode: at a corner between two lines that the planner left a stop (overlap_mm > 0 on the
+  // second), the second line begins once the first has at most overlap_mm left to brake, with its
+  // limits lowered by what the first's end still uses on each axis (the corner overlap; false:
+  // every such corner at rest; planner.corner_overlap).
+  bool corner_overlap = true;
+  // The machine's axis limits, which the overlap shares between the two lines (no axis present:
+  // unknown, and each axis's limit is taken as the larger of what the two lines allow it).
+  MachineLimits axis_limits{};
 };
 
 // True when any present axis has a jerk limit (blocks then carry a finite j_mm_s3: the jerk follower runs).
@@ -97,6 +106,8 @@ class Interpolator {
 
   // rt-safe. Advances time by dt and returns the new setpoint.
   const Setpoint& step(double dt);
+  // Jerk mode: corners whose next line began while the line before still braked (corner overlap).
+  std::uint64_t corner_overlaps() const { return overlaps_; }
 
   // rt-safe. P-8: feed override factor (1 = programmed feed), acting from the next step with the
   // ramps kept; rapids follow it up to 1. No axis ever exceeds its own speed limit.
@@ -112,11 +123,11 @@ class Interpolator {
   // rt-safe. P-5: brake to rest on the path, then drop everything planned.
   void request_stop(StopKind kind);
 
-  const Setpoint& setpoint() const { return sp_; }
+  const Setpoint& setpoint() const { return tail_.active ? out_ : sp_; }
   // True while there is nothing left to move (nothing committed, nothing pending).
-  bool idle() const { return queue_.empty(); }
+  bool idle() const { return queue_.empty() && !tail_.active; }
   // True when a stop has ended, until acknowledge_stop().
-  bool stopped() const { return stopped_; }
+  bool stopped() const { return stopped_ && !tail_.active; }
   void acknowledge_stop() { stopped_ = false; }
   // rt-safe. Forgets a stop requested or ended and not acknowledged (a fault cut it short): a new
   // program starts without it. The queue is the caller's (empty when a program starts).
@@ -145,7 +156,7 @@ class Interpolator {
   // A feed hold or a motion-enable drop (P-2) is braking the path or holds it.
   bool held() const { return hold_ || !enable_; }
   // At rest on the path because of a hold, an enable drop or a stop in progress.
-  bool halted_at_rest() const { return sp_.moving && sp_.path_v == 0 && halt(); }
+  bool halted_at_rest() const { return sp_.moving && sp_.path_v == 0 && halt() && !tail_.active; }
 
  private:
   struct Inputs {
@@ -160,7 +171,9 @@ class Interpolator {
   static VelocityRamp ramp_for(const Block& b, double dist, double v0, const Inputs& in);
   void rest_at_end();
   const Setpoint& rest_at_window_end();
+  const Setpoint& step_path(double dt);
   const Setpoint& step_jerk(double dt);
+  void begin_overlap(double dt);
   const Setpoint& step_trapezoid(double dt);  // step() on a front block without a jerk limit
 
   PlanQueue& queue_;
@@ -193,6 +206,20 @@ class Interpolator {
   std::uint64_t jerk_cycles_ = 0, guard_simulations_ = 0, guard_verifies_ = 0;
   std::uint32_t rest_cycles_ = 0;  // jerk mode: cycles in a row that ended at rest without moving
   Inputs in_;
+  // Jerk mode, the corner overlap: the end of the braking line runs on beside the next one, as a
+  // position-mode stop from the state it had (`otg`, along `dir`, s ≤ 0 up to its end at 0), added
+  // to the path's setpoint (out_). The next line's limits, lowered meanwhile, come back when it ends.
+  struct Tail {
+    bool active = false;
+    Otg1 otg;
+    Vec dir{};
+    double t = 0;
+    double a = 0, j = 0, v_cap = 0, v_split = 0;  // the next line's limits before the overlap
+    std::uint64_t pops = 0;                       // the ring's pops while that line is its front
+  };
+  Tail tail_;
+  Setpoint out_;  // the path's setpoint plus the tail's, while a tail runs
+  std::uint64_t overlaps_ = 0;
   SpeedRule rule_;  // override and P-8 speed limits
   bool hold_ = false, enable_ = true, stopped_ = false;
   StopKind stop_ = StopKind::None;

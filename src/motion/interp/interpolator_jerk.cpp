@@ -453,4 +453,97 @@ const Setpoint& Interpolator::step_jerk(double dt) {
   return sp_;
 }
 
+// rt-safe. The corner overlap (docs/planner.md, "Corner overlap"): braking onto a corner between two
+// lines that the planner left a stop within a tolerance (the second's overlap_mm), the first line's
+// end is run on beside the path as a position-mode stop from the present state (the tail) and the
+// second line begins from rest at once, as soon as every setpoint that makes is within overlap_mm
+// of the program (below). Each axis's speed, acceleration and jerk are the sums of both:
+// the second line's limits are lowered, while the tail runs, to what each axis has left beside the
+// tail's bounds (its speed now, its acceleration, the first line's jerk), with every axis's limit
+// the machine's (InterpolatorConfig::axis_limits; unknown: the larger of what the two lines allow
+// it, as both keep it). The second
+// line must be long enough that nothing jerk-limited from rest leaves it before the tail ends.
+void Interpolator::begin_overlap(double dt) {
+  auto& ring = queue_.ring();
+  if (halt() || started_ || ring.size() < 3 || queue_.visible() < 3 || !(v_ > 0)) return;
+  const Block& f = ring.front();
+  const Block& g = ring.at(1);
+  const double left = f.length - s_;
+  // Within reach of the deviation bound below only (each look costs a stop's solve).
+  if (!(g.overlap_mm > 0) || g.v2_junction > 0 || !(left > 0) || left > 4 * g.overlap_mm) return;
+  if (f.is_blend || g.is_blend || f.seg.kind != SegmentKind::Line || g.seg.kind != SegmentKind::Line) return;
+  if (!std::isfinite(f.j_mm_s3) || !std::isfinite(g.j_mm_s3) || !(f.j_mm_s3 > 0) || !(g.j_mm_s3 > 0)) return;
+  // The tail: the time-optimal stop on the corner from here, within the first line's limits and
+  // no faster than now. Taken only where it lands without passing the corner or reversing.
+  Otg1 otg;
+  otg.reset({-left, v_, a_, 0});
+  if (otg.update(0.0, {v_, f.a_mm_s2, f.j_mm_s3}) == OtgResult::ErrorInvalidInput) return;
+  const double T = otg.duration_s();
+  if (!(T > 0) || T > 1.0) return;
+  // The setpoint is the second line's point plus the tail's offset, whose length is what the tail
+  // has left, d(t): at most d(t) from the first line's point there, and at most the second line's
+  // progress from the corner's point on the second, which from rest at jerk ≤ j is j·t³/6. Both
+  // are points of the program, so each cycle's setpoint lies within min(d, j·t³/6) of it: that
+  // must stay within overlap_mm (the tail starts where the two cross below it, not only once d is).
+  const double p_mm = g.overlap_mm;
+  if (!(-otg.at(dt).s <= p_mm || g.j_mm_s3 * dt * dt * dt / 6 <= p_mm)) return;
+  double v_t = v_, a_t = std::abs(a_);
+  for (double t = dt; t < T + dt; t += dt) {
+    const double tc = std::min(t, T);
+    const ProfileState x = otg.at(tc);
+    if (x.s > 1e-12 || x.v < -1e-12) return;
+    if (std::min(-x.s, g.j_mm_s3 * t * t * t / 6) > p_mm) return;
+    v_t = std::max(v_t, x.v);
+    a_t = std::max(a_t, std::abs(x.a));
+  }
+  const double j_t = f.j_mm_s3;
+  // Nothing from rest at jerk ≤ g's leaves g within T.
+  if (!(g.length > 2 * g.j_mm_s3 * T * T * T / 6)) return;
+  // The second line's limits with each axis's share of the tail taken off.
+  double a2 = g.a_mm_s2, j2 = g.j_mm_s3, v2 = g.v_cap_mm_s;
+  const Vec& u1 = f.seg.dir;
+  const Vec& u2 = g.seg.dir;
+  for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
+    const double t1 = std::abs(u1[i]), t2 = std::abs(u2[i]);
+    if (!(t2 > 1e-12)) continue;
+    // The axis's own limits where known (each line keeps them, so at least what it allows it).
+    const AxisLimits& al = config_.axis_limits.axis[i];
+    const bool known = config_.axis_limits.present(i) && al.j_max_mm_s3 > 0;
+    const double A = std::max({t1 * f.a_mm_s2, t2 * g.a_mm_s2, known ? al.a_max_mm_s2 : 0.0});
+    const double J = std::max({t1 * f.j_mm_s3, t2 * g.j_mm_s3, known ? al.j_max_mm_s3 : 0.0});
+    const double V = std::max({t1 * f.v_cap_mm_s, t2 * g.v_cap_mm_s, known ? al.v_max_mm_s : 0.0});
+    a2 = std::min(a2, (A - t1 * a_t) / t2);
+    j2 = std::min(j2, (J - t1 * j_t) / t2);
+    v2 = std::min(v2, (V - t1 * v_t) / t2);
+  }
+  // Where the tail leaves the second line less than half its acceleration or jerk, the corner
+  // stays a stop: the line would start too gently to gain.
+  if (!(a2 >= 0.5 * g.a_mm_s2) || !(j2 >= 0.5 * g.j_mm_s3) || !(v2 > 0)) return;
+
+  // Begin: the first line is done for the path; the second starts from rest, the tail beside it.
+  sp_.pos = f.end();
+  ring.pop();
+  Block& h = ring.front();
+  tail_.active = true;
+  tail_.otg = otg;
+  tail_.dir = u1;
+  tail_.t = 0;
+  tail_.a = h.a_mm_s2;
+  tail_.j = h.j_mm_s3;
+  tail_.v_cap = h.v_cap_mm_s;
+  tail_.v_split = h.v_split_mm_s;
+  tail_.pops = ring.pops();
+  h.a_mm_s2 = a2;
+  h.j_mm_s3 = j2;
+  h.v_cap_mm_s = std::min(h.v_cap_mm_s, v2);
+  h.v_split_mm_s = std::min(h.v_split_mm_s, h.v_cap_mm_s);
+  ring.touch();
+  s_ = v_ = a_ = 0;
+  cert_ = GuardVerdict{};
+  stop_plan_.taken(false);
+  cruise_.valid = false;
+  rest_cycles_ = 0;
+  ++overlaps_;
+}
+
 }  // namespace softmc::motion

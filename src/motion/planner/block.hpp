@@ -53,6 +53,11 @@ struct alignas(64) Block {
                               // and the stop at the end of what is planned, can still be met
   std::uint32_t tag_last = 0;  // a merged line: the last instruction it stands for (else = tag)
   double merge_q_mm = 0;      // a merged line: largest distance of the programmed corners it replaces
+  // A line after a line whose corner was left unblended within a tolerance: how far from the
+  // corner the path may pass (P less what merges took) where the corner is a stop, so that this
+  // line may begin while the one before still brakes (jerk mode: Interpolator, "corner overlap").
+  // 0: none (G61, curves, blends).
+  double overlap_mm = 0;
   // A Poly block's limits as segment_limits derived them (before junction shares lowered them), for
   // the speed it was asked for (relimit_v, ∞: none) and the jerk bound it took (relimit_norm): a
   // stop derives them again for the speed the path has then (Planner::limit_for_stop). 0: none kept.

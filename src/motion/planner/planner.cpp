@@ -329,6 +329,10 @@ void Planner::join(Block& b, double p_mm) {
     }
     if (!blended && tol > 0 && (a.seg.kind == SegmentKind::Arc || b.seg.kind == SegmentKind::Arc))
       blended = blend_curves(a, b, tol, queue_.pending_full_length_ / 2, blend);
+    // An unblended corner between two lines within P: where it turns out a stop, the interpolator
+    // may start b while a still brakes, passing within tol of the corner.
+    if (!blended && tol > 0 && !a.is_blend && a.seg.kind == SegmentKind::Line && b.seg.kind == SegmentKind::Line)
+      b.overlap_mm = tol;
     if (!blended && p_mm > 0) kink(a, b);
     if (a.length > min_length_mm_) commit(a);
     if (blended) commit(blend);
