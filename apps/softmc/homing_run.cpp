@@ -22,7 +22,7 @@ HomingRunResult run_homing(const machine::MachineConfig& cfg, const core::Vec& p
   std::vector<machine::AxisHoming> homing;
   std::array<int, core::kMaxAxes> slot{};
   slot.fill(-1);
-  std::array<double, core::kMaxAxes> cmd{};
+  std::array<double, core::kMaxAxes> cmd{}, cmd_v{};
   for (const auto& a : cfg.axes) {
     if (!a.enabled) continue;
     res.drives[a.index] = std::make_unique<machine::SimDrive>(a, 0.0, power_up[a.index]);
@@ -66,6 +66,7 @@ HomingRunResult run_homing(const machine::MachineConfig& cfg, const core::Vec& p
           }
           if (!h.done()) busy = true;
         }
+        cmd_v[a.index] = vel;
         d->update(cmd[a.index], vel, dt);
       }
       ++cycle;
@@ -78,14 +79,24 @@ HomingRunResult run_homing(const machine::MachineConfig& cfg, const core::Vec& p
                               a.ferror_limit_mm));
           return res;
         }
-        const bool homing_here = slot[a.index] >= 0 && a.home_side == side &&
-                                 homing[static_cast<std::size_t>(slot[a.index])].phase() != machine::HomingPhase::Done;
-        const bool other = a.home_side == machine::HomeSide::Negative ? d->limit_positive() : d->limit_negative();
-        const bool own = a.home_side == machine::HomeSide::Negative ? d->limit_negative() : d->limit_positive();
-        if (other || (own && !homing_here)) {
-          fail(a, fmt::format("limit switch {}{} closed", core::letter(a.index), d->limit_negative() ? '-' : '+'));
+        // A closed switch is a fault where the axis is commanded towards it, except the home switch
+        // while its search finds it and brakes past it. An axis standing on a switch it is not
+        // moving into (waiting for its group, or moving off it) is not.
+        const double v = cmd_v[a.index];
+        const auto phase = slot[a.index] >= 0 ? homing[static_cast<std::size_t>(slot[a.index])].phase()
+                                              : machine::HomingPhase::Idle;
+        const bool searching = a.home_side == side && (phase == machine::HomingPhase::Search ||
+                                                       phase == machine::HomingPhase::Brake);
+        const bool neg_home = a.home_side == machine::HomeSide::Negative;
+        const bool into_neg = d->limit_negative() && v < 0 && !(searching && neg_home);
+        const bool into_pos = d->limit_positive() && v > 0 && !(searching && !neg_home);
+        if (into_neg || into_pos) {
+          fail(a, fmt::format("limit switch {}{} closed", core::letter(a.index), into_neg ? '-' : '+'));
           return res;
         }
+        if (slot[a.index] >= 0)
+          res.axis[a.index].overshoot_mm = std::max(res.axis[a.index].overshoot_mm,
+                     neg_home ? machine::home_switch_mm(a) - d->true_mm() : d->true_mm() - machine::home_switch_mm(a));
       }
       for (const auto& a : cfg.axes)
         if (slot[a.index] >= 0 && a.home_side == side && homing[static_cast<std::size_t>(slot[a.index])].done() &&
@@ -93,7 +104,12 @@ HomingRunResult run_homing(const machine::MachineConfig& cfg, const core::Vec& p
           res.axis[a.index].time_s = static_cast<double>(cycle) * dt;
       if (!busy) break;
       if (cycle >= max_cycles) {
-        res.result = fmt::format("homing: not done after {} s", max_time_s);
+        std::string busy_axes;
+        for (const auto& a : cfg.axes)
+          if (slot[a.index] >= 0 && a.home_side == side && !homing[static_cast<std::size_t>(slot[a.index])].done())
+            busy_axes += core::letter(a.index);
+        res.result = fmt::format("homing {}: not done after {} s (home_vel_mm_s too low for the travel?)", busy_axes,
+                                 max_time_s);
         return res;
       }
     }
@@ -105,7 +121,11 @@ HomingRunResult run_homing(const machine::MachineConfig& cfg, const core::Vec& p
       auto* d = res.drives[a.index].get();
       if (d && std::abs(d->following_error_mm()) > a.mm_per_count()) settled = false;
     }
-    if (settled || cycle >= max_cycles) break;
+    if (settled) break;
+    if (cycle >= max_cycles) {
+      res.result = fmt::format("homing: the drives were not in position after {} s", max_time_s);
+      return res;
+    }
     for (const auto& a : cfg.axes)
       if (auto* d = res.drives[a.index].get()) d->update(cmd[a.index], 0, dt);
   }

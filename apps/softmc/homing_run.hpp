@@ -21,6 +21,7 @@ struct AxisHomingResult {
   double true_mm = 0;       // where the load really is then
   double reference_error_mm = 0;  // reading − true position at the end: the reference's error
   double time_s = 0;        // from the start of the sequence to this axis's end
+  double overshoot_mm = 0;  // how far the load went past the switch's point while braking (simulation only)
 };
 
 struct HomingRunResult {

@@ -149,7 +149,7 @@ nlohmann::ordered_json homing_json(const app::HomingRunResult& h, const machine:
     axes[std::string(1, core::letter(a.index))] = {{"homed", r.homed}, {"power_up_mm", r.power_up_mm},
                                                    {"switch_mm", r.switch_mm}, {"position_mm", r.position_mm},
                                                    {"true_mm", r.true_mm}, {"reference_error_mm", r.reference_error_mm},
-                                                   {"time_s", r.time_s}};
+                                                   {"overshoot_mm", r.overshoot_mm}, {"time_s", r.time_s}};
   }
   return {{"result", h.result}, {"time_s", h.time_s}, {"axes", axes}};
 }
@@ -164,8 +164,9 @@ std::string homing_text(const app::HomingRunResult& h, const machine::MachineCon
       s += fmt::format("  {}          not homed (no limit switches): reading 0 where it stands\n", core::letter(a.index));
       continue;
     }
-    s += fmt::format("  {}          switch at {:.3f} mm, now at {:.3f} mm, reference error {:+.4f} mm, done at {:.3f} s\n",
-                     core::letter(a.index), r.switch_mm, r.position_mm, r.reference_error_mm, r.time_s);
+    s += fmt::format("  {}          switch at {:.3f} mm, now at {:.3f} mm, reference error {:+.4f} mm, at most {:.3f} mm "
+                     "past the switch, done at {:.3f} s\n",
+                     core::letter(a.index), r.switch_mm, r.position_mm, r.reference_error_mm, r.overshoot_mm, r.time_s);
   }
   return s;
 }
@@ -175,7 +176,8 @@ int cmd_run(const std::string& path, const MachineArgs& margs, const std::string
   const auto cfg = margs.load();
   const std::string machine_name = margs.file.empty() ? cfg.name + " (built-in)" : margs.file;
   std::optional<app::HomingRunResult> homed;
-  if (home_args.home || !home_args.power_up.empty()) {
+  if (!home_args.home && !home_args.power_up.empty()) throw std::runtime_error("--power-up needs --home");
+  if (home_args.home) {
     homed.emplace(app::run_homing(cfg, power_up_positions(home_args, cfg)));
     if (!homed->ok) {
       if (json) std::cout << homing_json(*homed, cfg).dump() << '\n';
@@ -233,9 +235,9 @@ int cmd_run(const std::string& path, const MachineArgs& margs, const std::string
   }
   if (json) {
     if (homed) {
-      auto j = nlohmann::ordered_json::parse(report::to_json(summary));
+      auto j = report::to_json_object(summary);
       j["homing"] = homing_json(*homed, cfg);
-      std::cout << j.dump() << '\n';
+      std::cout << j.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace) << '\n';
     } else {
       std::cout << report::to_json(summary) << '\n';
     }
@@ -360,6 +362,8 @@ int main(int argc, char** argv) {
 
   try {
     if (auto rc = spc_admin.run()) return *rc;
+    if (*run && is_spc(run_prog) && home_args.home)
+      throw std::runtime_error("--home homes the axes before a G-code program; SPC runs do not take it");
     if (*run && is_spc(run_prog)) {
       spc_args.store = run_prog;
       spc_args.trace_csv = trace_csv;

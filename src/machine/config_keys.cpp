@@ -171,6 +171,13 @@ std::optional<ConfigProblem> find_problem(const MachineConfig& cfg, const std::v
                                        ak, format_number(a.max_jerk_mm_s3), step, format_number(cfg.period_s),
                                        motion::kMinJerkStep_mm,
                                        motion::kMinJerkStep_mm / (cfg.period_s * cfg.period_s * cfg.period_s))};
+    // Homing (T-4) ends home_backoff_mm from the switch, which sits switch_overtravel_mm beyond the
+    // travel: inside the travel only when the back-off is the longer.
+    if (a.limit_switches && !(a.home_backoff_mm > a.switch_overtravel_mm))
+      return ConfigProblem{{ak + ".home_backoff_mm", ak + ".switch_overtravel_mm", ak},
+                           fmt::format("{0}.home_backoff_mm must be > {0}.switch_overtravel_mm, so that homing ends "
+                                       "inside the travel (got {1} <= {2})",
+                                       ak, format_number(a.home_backoff_mm), format_number(a.switch_overtravel_mm))};
     if (!(a.home_backoff_mm < a.max_mm - a.min_mm))
       return ConfigProblem{{ak + ".home_backoff_mm", ak},
                            fmt::format("{}.home_backoff_mm must be < the travel max_mm - min_mm (got {} >= {})", ak,

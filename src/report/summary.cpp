@@ -152,6 +152,10 @@ std::string to_text(const Summary& s) {
 }
 
 std::string to_json(const Summary& s) {
+  return to_json_object(s).dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+}
+
+nlohmann::ordered_json to_json_object(const Summary& s) {
   // ordered_json keeps the documented field order (docs/cli.md), so diffs of outputs stay readable.
   nlohmann::ordered_json j;
   j["program"] = s.program;
@@ -182,7 +186,7 @@ std::string to_json(const Summary& s) {
   j["axes"] = std::move(axes);
   j["max_path_deviation_at"] = where_json(s, s.deviation_at);  // added 2026-12-05
   // A file name or fault text that is not UTF-8 must not make the summary itself fail.
-  return j.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+  return j;
 }
 
 }  // namespace softmc::report

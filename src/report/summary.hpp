@@ -2,6 +2,7 @@
 #pragma once
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include <array>
 #include <cstdio>
@@ -101,6 +102,7 @@ class TraceCsvWriter {
 
 std::string to_text(const Summary& s);   // short human-readable block
 std::string to_json(const Summary& s);   // one JSON object (nlohmann-json), stable field names
+nlohmann::ordered_json to_json_object(const Summary& s);  // the same, to add members to (run --home)
 
 // CSV: t_s, then per configured axis <a>_cmd_mm, <a>_act_mm, <a>_vel_mm_s; then path_v_mm_s, tool, line.
 void write_trace_csv(const std::string& path, const Trace& trace, const program::Program* prog = nullptr);

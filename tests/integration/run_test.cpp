@@ -767,3 +767,35 @@ TEST(Run, T4_RunHomeOnTheCliReportsTheHomingAndRunsTheProgram) {
   EXPECT_NE(bad.exit, 0);
   EXPECT_NE(bad.err.find("--power-up W=5"), std::string::npos) << bad.err;
 }
+
+// The start-up sequence's failures and edge cases (T-4, T-5): an axis powered up on its home switch
+// waits there while Z homes first, then moves off it; one on its far switch homes away from it; a
+// following error, a search too slow for the time allowed, each named with the axis.
+TEST(Run, T4_AxesPoweredUpOnASwitchStillHome) {
+  const auto cfg = machine::default_machine();
+  for (const double x : {-3.0, 603.0}) {
+    core::Vec p = app::mid_travel(cfg);
+    p[0] = x;
+    const auto h = app::run_homing(cfg, p);
+    ASSERT_TRUE(h.ok) << x << ": " << h.result;
+    EXPECT_LE(std::abs(h.axis[0].reference_error_mm), cfg.axis(0)->mm_per_count() + machine::home_speed_mm_s(*cfg.axis(0)) * cfg.period_s);
+  }
+}
+
+TEST(Run, T4_HomingFailuresNameTheAxis) {
+  auto cfg = machine::default_machine();
+  machine::apply_override(cfg, "axes.y.ferror_limit_mm=0.05");
+  machine::validate(cfg);
+  auto h = app::run_homing(cfg, app::mid_travel(cfg));
+  EXPECT_FALSE(h.ok);
+  EXPECT_NE(h.result.find("homing Y: following error"), std::string::npos) << h.result;
+
+  const auto table = machine::default_machine();
+  h = app::run_homing(table, app::mid_travel(table), 2.0);  // Z, first, needs 10.8 s from mid-travel
+  EXPECT_FALSE(h.ok);
+  EXPECT_NE(h.result.find("homing Z: not done after 2 s"), std::string::npos) << h.result;
+
+  const auto r = test::run_softmc("run " + kSrc + "/examples/thesis/square.ngc --power-up X=5");
+  EXPECT_NE(r.exit, 0);
+  EXPECT_NE(r.err.find("--power-up needs --home"), std::string::npos) << r.err;
+}

@@ -476,7 +476,7 @@ TEST(MachineConfig, ValidateAcceptsTheEdgesOfEachRange) {
   axis_of(cfg, kZ).max_jerk_mm_s3 = 2e6;
   x.feedforward = 0;
   x.switch_overtravel_mm = 0;
-  x.home_backoff_mm = 0;
+  x.home_backoff_mm = 0.25;  // > the overtravel (homing ends inside the travel), < the travel
   x.min_mm = -1;
   x.max_mm = -0.5;
   EXPECT_NO_THROW(validate(cfg));
@@ -587,4 +587,20 @@ TEST(MachineConfig, TheSimulatedJerkGuardIsRefusedWithItsReason) {
               ::testing::HasSubstr("broke axis limits in short look-ahead windows"));
   EXPECT_FALSE(cfg.planner.jerk_guard_simulate);  // the refused override changed nothing
   EXPECT_EQ(error_of([&] { parse_machine("[planner]\njerk_guard_simulate = false\n", "m.toml"); }), "no error");
+}
+
+// T-4: homing backs off home_backoff_mm from a switch that sits switch_overtravel_mm beyond the
+// travel; a back-off no longer than that ends outside the travel (or on the switch).
+TEST(MachineConfig, T4_HomingMustEndInsideTheTravel) {
+  auto cfg = default_machine();
+  axis_of(cfg, kX).home_backoff_mm = 2.0;  // = the 2 mm overtravel: homing would end on the travel's end
+  try {
+    validate(cfg);
+    ADD_FAILURE() << "accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("axes.x.home_backoff_mm must be > axes.x.switch_overtravel_mm"), std::string::npos)
+        << e.what();
+  }
+  axis_of(cfg, kX).limit_switches = false;  // no switch, no homing: any back-off
+  EXPECT_NO_THROW(validate(cfg));
 }

@@ -119,3 +119,13 @@ TEST(Homing, T4_NoSwitchWithinTheTravelFails) {
   // It gave up after the travel and its margins, not at once.
   EXPECT_GT(n * 0.001 * home_speed_mm_s(a), a.max_mm - a.min_mm);
 }
+
+TEST(Homing, T4_TheLatchIsTheReadingWhereTheSwitchClosedNotTheCommand) {
+  // At 100 mm/s the load lags its command by v·τ = 0.5 mm (5 ms motor): a reference taken from the
+  // command would be 0.5 mm off; from the reading it is within a count and one cycle's travel.
+  auto a = table_x();
+  a.home_vel_mm_s = 100;
+  Homed r(a, 300.0);
+  ASSERT_TRUE(r.h.done()) << r.h.error();
+  EXPECT_LE(std::abs(r.d.reference_offset_mm()), a.mm_per_count() + 100 * 0.001);
+}
