@@ -129,7 +129,7 @@ void Interpolator::rest_at_end() {
 // rt-safe
 const Setpoint& Interpolator::step(double dt) {
   queue_.settle();  // the planner's backward pass over what was pushed since the last cycle
-  if (config_.corner_overlap && !tail_.active) begin_overlap(dt);
+  if (config_.corner_overlap && !tail_.active && v_ > 0) begin_overlap(dt);
   const Setpoint& p = step_path(dt);
   if (!tail_.active) return p;
   // The braking line's end beside the path (begin_overlap): its offset from the corner added.

@@ -220,6 +220,7 @@ class Interpolator {
   Tail tail_;
   Setpoint out_;  // the path's setpoint plus the tail's, while a tail runs
   std::uint64_t overlaps_ = 0;
+  std::uint64_t overlap_refused_ = ~std::uint64_t{0};  // the ring's pops at a corner found no use to overlap
   SpeedRule rule_;  // override and P-8 speed limits
   bool hold_ = false, enable_ = true, stopped_ = false;
   StopKind stop_ = StopKind::None;

@@ -465,14 +465,50 @@ const Setpoint& Interpolator::step_jerk(double dt) {
 // line must be long enough that nothing jerk-limited from rest leaves it before the tail ends.
 void Interpolator::begin_overlap(double dt) {
   auto& ring = queue_.ring();
-  if (halt() || started_ || ring.size() < 3 || queue_.visible() < 3 || !(v_ > 0)) return;
-  const Block& f = ring.front();
+  if (ring.size() < 3) return;
   const Block& g = ring.at(1);
+  if (!(g.overlap_mm > 0) || g.v2_junction > 0 || ring.pops() == overlap_refused_) return;
+  if (halt() || started_ || queue_.visible() < 3) return;
+  const Block& f = ring.front();
   const double left = f.length - s_;
   // Within reach of the deviation bound below only (each look costs a stop's solve).
-  if (!(g.overlap_mm > 0) || g.v2_junction > 0 || !(left > 0) || left > 4 * g.overlap_mm) return;
-  if (f.is_blend || g.is_blend || f.seg.kind != SegmentKind::Line || g.seg.kind != SegmentKind::Line) return;
-  if (!std::isfinite(f.j_mm_s3) || !std::isfinite(g.j_mm_s3) || !(f.j_mm_s3 > 0) || !(g.j_mm_s3 > 0)) return;
+  if (!(left > 0) || left > 4 * g.overlap_mm) return;
+  if (f.is_blend || g.is_blend || f.seg.kind != SegmentKind::Line || g.seg.kind != SegmentKind::Line ||
+      !std::isfinite(f.j_mm_s3) || !std::isfinite(g.j_mm_s3) || !(f.j_mm_s3 > 0) || !(g.j_mm_s3 > 0)) {
+    overlap_refused_ = ring.pops();
+    return;
+  }
+  // The second line's limits with each axis's share of the tail taken off: its speed v_t and
+  // largest |a| a_t, and the first line's jerk (the tail's jerk phases use all of it).
+  const Vec& u1 = f.seg.dir;
+  const Vec& u2 = g.seg.dir;
+  const auto lowered = [&](double v_t, double a_t, double& a2, double& j2, double& v2) {
+    a2 = g.a_mm_s2;
+    j2 = g.j_mm_s3;
+    v2 = g.v_cap_mm_s;
+    for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
+      const double t1 = std::abs(u1[i]), t2 = std::abs(u2[i]);
+      if (!(t2 > 1e-12)) continue;
+      // The axis's own limits where known (each line keeps them, so at least what it allows it).
+      const AxisLimits& al = config_.axis_limits.axis[i];
+      const bool known = config_.axis_limits.present(i) && al.j_max_mm_s3 > 0;
+      const double A = std::max({t1 * f.a_mm_s2, t2 * g.a_mm_s2, known ? al.a_max_mm_s2 : 0.0});
+      const double J = std::max({t1 * f.j_mm_s3, t2 * g.j_mm_s3, known ? al.j_max_mm_s3 : 0.0});
+      const double V = std::max({t1 * f.v_cap_mm_s, t2 * g.v_cap_mm_s, known ? al.v_max_mm_s : 0.0});
+      a2 = std::min(a2, (A - t1 * a_t) / t2);
+      j2 = std::min(j2, (J - t1 * f.j_mm_s3) / t2);
+      v2 = std::min(v2, (V - t1 * v_t) / t2);
+    }
+  };
+  // Where the tail leaves the second line less than half its acceleration or jerk, the corner
+  // stays a stop: the line would start too gently to gain. The jerk's share does not depend on
+  // where the tail begins: refused once, this corner is not looked at again.
+  double a2 = 0, j2 = 0, v2 = 0;
+  lowered(0, 0, a2, j2, v2);
+  if (!(j2 >= 0.5 * g.j_mm_s3)) {
+    overlap_refused_ = ring.pops();
+    return;
+  }
   // The tail: the time-optimal stop on the corner from here, within the first line's limits and
   // no faster than now. Taken only where it lands without passing the corner or reversing.
   Otg1 otg;
@@ -496,28 +532,9 @@ void Interpolator::begin_overlap(double dt) {
     v_t = std::max(v_t, x.v);
     a_t = std::max(a_t, std::abs(x.a));
   }
-  const double j_t = f.j_mm_s3;
   // Nothing from rest at jerk ≤ g's leaves g within T.
   if (!(g.length > 2 * g.j_mm_s3 * T * T * T / 6)) return;
-  // The second line's limits with each axis's share of the tail taken off.
-  double a2 = g.a_mm_s2, j2 = g.j_mm_s3, v2 = g.v_cap_mm_s;
-  const Vec& u1 = f.seg.dir;
-  const Vec& u2 = g.seg.dir;
-  for (std::size_t i = 0; i < core::kMaxAxes; ++i) {
-    const double t1 = std::abs(u1[i]), t2 = std::abs(u2[i]);
-    if (!(t2 > 1e-12)) continue;
-    // The axis's own limits where known (each line keeps them, so at least what it allows it).
-    const AxisLimits& al = config_.axis_limits.axis[i];
-    const bool known = config_.axis_limits.present(i) && al.j_max_mm_s3 > 0;
-    const double A = std::max({t1 * f.a_mm_s2, t2 * g.a_mm_s2, known ? al.a_max_mm_s2 : 0.0});
-    const double J = std::max({t1 * f.j_mm_s3, t2 * g.j_mm_s3, known ? al.j_max_mm_s3 : 0.0});
-    const double V = std::max({t1 * f.v_cap_mm_s, t2 * g.v_cap_mm_s, known ? al.v_max_mm_s : 0.0});
-    a2 = std::min(a2, (A - t1 * a_t) / t2);
-    j2 = std::min(j2, (J - t1 * j_t) / t2);
-    v2 = std::min(v2, (V - t1 * v_t) / t2);
-  }
-  // Where the tail leaves the second line less than half its acceleration or jerk, the corner
-  // stays a stop: the line would start too gently to gain.
+  lowered(v_t, a_t, a2, j2, v2);
   if (!(a2 >= 0.5 * g.a_mm_s2) || !(j2 >= 0.5 * g.j_mm_s3) || !(v2 > 0)) return;
 
   // Begin: the first line is done for the path; the second starts from rest, the tail beside it.
