@@ -142,6 +142,14 @@ const Setpoint& Interpolator::step(double dt) {
     out_.acc[i] += tail_.dir[i] * x.a;
   }
   out_.moving = true;
+  // The setpoint lies within the next line's progress of the braking line's point, and within what
+  // the tail has left of the next line's point: it belongs to whichever is the nearer (the
+  // instructions a setpoint is measured against, and the outputs the next line switches).
+  if (-x.s > s_) {
+    out_.tag = tail_.tag;
+    out_.tag_last = tail_.tag_last;
+    out_.rapid = tail_.rapid;
+  }
   if (tail_.t >= tail_.otg.duration_s()) {
     // At rest on the corner: the next line gets its limits back, if it is still the front.
     tail_.active = false;

@@ -216,6 +216,8 @@ class Interpolator {
     double t = 0;
     double a = 0, j = 0, v_cap = 0, v_split = 0;  // the next line's limits before the overlap
     std::uint64_t pops = 0;                       // the ring's pops while that line is its front
+    std::uint32_t tag = 0, tag_last = 0;          // the braking line's instructions
+    bool rapid = false;
   };
   Tail tail_;
   Setpoint out_;  // the path's setpoint plus the tail's, while a tail runs

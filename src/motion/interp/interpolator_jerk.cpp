@@ -539,6 +539,9 @@ void Interpolator::begin_overlap(double dt) {
 
   // Begin: the first line is done for the path; the second starts from rest, the tail beside it.
   sp_.pos = f.end();
+  tail_.tag = f.tag;
+  tail_.tag_last = f.tag_last;
+  tail_.rapid = f.rapid;
   ring.pop();
   Block& h = ring.front();
   tail_.active = true;
