@@ -165,8 +165,7 @@ TEST(CornerOverlap, P8_AFeedHoldDuringAnOverlapHoldsOnThePathAndGoesOn) {
 TEST(CornerOverlap, P5_AStopDuringAnOverlapEndsAtRestAfterTheTail) {
   const std::string prog = square_wave(6);
   const auto cfg = machine_for(true);
-  const auto free = run(prog, cfg);
-  const double t = first_overlap_s(free);
+  const double t = first_overlap_s(run(prog, cfg));  // the first overlap of the run without the stop
   ASSERT_GT(t, 0);
   const auto stopped = run(prog, cfg, fmt::format("{:.4f} stop_request 1\n", t + 0.0005));
   ASSERT_TRUE(stopped.res.stopped) << stopped.res.result;
