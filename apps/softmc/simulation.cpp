@@ -111,7 +111,8 @@ std::string Simulation::fault_text() const {
 bool Simulation::held_for_good() const {
   if ((player_ && !player_->finished()) || channel_.state() != control::ChannelState::Running) return false;
   const auto& sp = interp_.setpoint();
-  return sp.moving && sp.path_v == 0 && (interp_.halted_at_rest() || interp_.feed_override() == 0);
+  return sp.moving && sp.path_v == 0 && !interp_.overlapping() &&
+         (interp_.halted_at_rest() || interp_.feed_override() == 0);
 }
 
 std::string Simulation::stop_text() const {

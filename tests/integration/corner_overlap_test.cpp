@@ -198,3 +198,35 @@ TEST(CornerOverlap, ALongTailBelongsToTheBrakingLineUntilTheNextHasGoneFurther) 
   ASSERT_TRUE(r.res.ok) << r.res.result;
   expect_within_limits(r, cfg, 0.1);
 }
+
+// A review's cases: an override of 0 written during an overlap holds the next line at once while
+// the tail still ends on the corner, and the run (held for good) is reported only once it has;
+// an emergency stop re-plans the tail with the emergency ramp too.
+TEST(CornerOverlap, P8_AZeroOverrideDuringAnOverlapIsHeldForGoodOnlyOnceTheTailEnds) {
+  const std::string prog = square_wave(6);
+  const auto cfg = machine_for(true);
+  const double t = first_overlap_s(run(prog, cfg));
+  ASSERT_GT(t, 0);
+  const auto held = run(prog, cfg, fmt::format("{:.4f} feed_override_permille 0\n", t + 0.0005));
+  EXPECT_FALSE(held.res.ok);
+  EXPECT_NE(held.res.result.find("held at rest"), std::string::npos) << held.res.result;
+  const auto& last = held.res.trace.rows.back();
+  for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(last.vel[i], 0.0) << i;
+  expect_within_limits(held, cfg, 0.05);
+}
+
+TEST(CornerOverlap, P5_AnEmergencyStopBrakesTheTailWithTheEmergencyRamp) {
+  const std::string prog = square_wave(6);
+  auto cfg = machine_for(true);
+  const double t = first_overlap_s(run(prog, cfg));
+  ASSERT_GT(t, 0);
+  const std::string stim = fmt::format("{:.4f} emergency_stop_request 1\n", t + 0.0015);
+  const auto normal = run(prog, cfg, stim);
+  machine::apply_override(cfg, "planner.emergency_accel_scale=3");
+  machine::validate(cfg);
+  const auto hard = run(prog, cfg, stim);
+  ASSERT_TRUE(normal.res.stopped) << normal.res.result;
+  ASSERT_TRUE(hard.res.stopped) << hard.res.result;
+  EXPECT_LT(hard.sum.cycle_time_s, normal.sum.cycle_time_s);
+  EXPECT_LE(hard.sum.max_path_deviation_mm, 0.05 + 1e-9);
+}

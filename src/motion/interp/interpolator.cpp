@@ -129,6 +129,23 @@ void Interpolator::rest_at_end() {
 // rt-safe
 const Setpoint& Interpolator::step(double dt) {
   queue_.settle();  // the planner's backward pass over what was pushed since the last cycle
+  if (tail_.active && queue_.ring().empty() && stop_ == StopKind::None && !stopped_) {
+    // The window dropped from outside (a fault): the setpoint stays where it was, as the path's.
+    sp_.pos = out_.pos;
+    tail_.active = false;
+  }
+  if (tail_.active && stop_ == StopKind::Emergency && !tail_.emergency) {
+    // P-5: the tail brakes onto the corner with the emergency ramp too.
+    const double scale = config_.emergency_accel_scale;
+    const ProfileState x = tail_.otg.at(tail_.t);
+    Otg1 e;
+    e.reset(x);
+    if (e.update(0.0, {std::max(x.v, 1e-9), tail_.a1 * scale, tail_.j1 * scale}) != OtgResult::ErrorInvalidInput) {
+      tail_.otg = e;
+      tail_.t = 0;
+    }
+    tail_.emergency = true;
+  }
   if (config_.corner_overlap && !tail_.active && v_ > 0) begin_overlap(dt);
   const Setpoint& p = step_path(dt);
   if (!tail_.active) return p;

@@ -108,6 +108,9 @@ class Interpolator {
   const Setpoint& step(double dt);
   // Jerk mode: corners whose next line began while the line before still braked (corner overlap).
   std::uint64_t corner_overlaps() const { return overlaps_; }
+  // The braking line's end still runs beside the path (corner overlap): not at rest even where the
+  // path is.
+  bool overlapping() const { return tail_.active; }
 
   // rt-safe. P-8: feed override factor (1 = programmed feed), acting from the next step with the
   // ramps kept; rapids follow it up to 1. No axis ever exceeds its own speed limit.
@@ -218,6 +221,8 @@ class Interpolator {
     std::uint64_t pops = 0;                       // the ring's pops while that line is its front
     std::uint32_t tag = 0, tag_last = 0;          // the braking line's instructions
     bool rapid = false;
+    double a1 = 0, j1 = 0;                        // the braking line's acceleration and jerk
+    bool emergency = false;                       // re-planned with the emergency scale (P-5)
   };
   Tail tail_;
   Setpoint out_;  // the path's setpoint plus the tail's, while a tail runs

@@ -515,7 +515,9 @@ void Interpolator::begin_overlap(double dt) {
   otg.reset({-left, v_, a_, 0});
   if (otg.update(0.0, {v_, f.a_mm_s2, f.j_mm_s3}) == OtgResult::ErrorInvalidInput) return;
   const double T = otg.duration_s();
-  if (!(T > 0) || T > 1.0) return;
+  if (!(T > 0) || T > 0.25) return;
+  // Nothing from rest at jerk ≤ g's leaves g within T.
+  if (!(g.length > 2 * g.j_mm_s3 * T * T * T / 6)) return;
   // The setpoint is the second line's point plus the tail's offset, whose length is what the tail
   // has left, d(t): at most d(t) from the first line's point there, and at most the second line's
   // progress from the corner's point on the second, which from rest at jerk ≤ j is j·t³/6. Both
@@ -532,8 +534,6 @@ void Interpolator::begin_overlap(double dt) {
     v_t = std::max(v_t, x.v);
     a_t = std::max(a_t, std::abs(x.a));
   }
-  // Nothing from rest at jerk ≤ g's leaves g within T.
-  if (!(g.length > 2 * g.j_mm_s3 * T * T * T / 6)) return;
   lowered(v_t, a_t, a2, j2, v2);
   if (!(a2 >= 0.5 * g.a_mm_s2) || !(j2 >= 0.5 * g.j_mm_s3) || !(v2 > 0)) return;
 
@@ -542,6 +542,9 @@ void Interpolator::begin_overlap(double dt) {
   tail_.tag = f.tag;
   tail_.tag_last = f.tag_last;
   tail_.rapid = f.rapid;
+  tail_.a1 = f.a_mm_s2;
+  tail_.j1 = f.j_mm_s3;
+  tail_.emergency = false;
   ring.pop();
   Block& h = ring.front();
   tail_.active = true;
