@@ -179,9 +179,8 @@ const Setpoint& Interpolator::step(double dt) {
       g.v_split_mm_s = tail_.v_split;
       ring.touch();
     }
-    return out_;  // (the tail's last offset is 0: out_ is the path's own setpoint)
   }
-  return out_;
+  return out_;  // (after the tail's last cycle its offset is 0: out_ is the path's own setpoint)
 }
 
 // rt-safe
