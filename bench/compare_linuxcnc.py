@@ -9,7 +9,8 @@
 # linuxcnc-uspace on a simulated XYZ trivkins machine; it takes the program's real time), and two
 # softmc runs in virtual time on the same axes (v, a per axis, travel ±1000 mm, the same G64 P):
 # jerk limiting off (trapezoids, as LinuxCNC plans) and on (max_jerk_mm_s3 = --jerk on every axis).
-# Printed per program: execution times, their ratio, limit violations and path deviation.
+# Printed per program: execution times, their ratio, limit violations and path deviation, and the
+# least time any planner keeping these limits within P could take (bench/time_lower_bound.py).
 #
 # Measured the same way on both traces (positions every 1 ms):
 #   violations  samples whose per-axis speed (first difference), acceleration (second difference)
@@ -31,6 +32,8 @@ import sys
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+import time_lower_bound  # noqa: E402
 ROOT = os.path.normpath(os.path.join(HERE, ".."))
 LCNC = os.environ.get("LCNC_TRACE", os.path.join(ROOT, "..", "shared", "tools", "linuxcnc", "lcnc_trace.sh"))
 AXES = "xyz"
@@ -92,33 +95,11 @@ def program_path(exe, prog):
 
 
 def arc_points(p0, p1, m):
-    plane = m["plane"]
-    i0, i1 = {"XY": (0, 1), "XZ": (0, 2), "ZX": (2, 0), "YZ": (1, 2)}[plane]
-    names = AXES[i0].upper(), AXES[i1].upper()
-    c = np.array([m["center"][names[0]], m["center"][names[1]]])
-    a0 = math.atan2(p0[i1] - c[1], p0[i0] - c[0])
-    a1 = math.atan2(p1[i1] - c[1], p1[i0] - c[0])
-    r0 = math.hypot(p0[i0] - c[0], p0[i1] - c[1])
-    r1 = math.hypot(p1[i0] - c[0], p1[i1] - c[1])
-    ccw = m["direction"] == "ccw"
-    turns = m.get("turns", 1)
-    sweep = (a1 - a0) % (2 * math.pi) if ccw else -((a0 - a1) % (2 * math.pi))
-    if abs(sweep) < 1e-12:
-        sweep = 2 * math.pi if ccw else -2 * math.pi
-    sweep += (turns - 1) * 2 * math.pi * (1 if ccw else -1)
-    r = max(r0, r1)
-    n = max(8, int(abs(sweep) / (2 * math.acos(max(-1.0, 1 - 1e-4 / max(r, 1e-9))))) + 1)
-    out = []
-    for k in range(1, n):
-        f = k / n
-        a = a0 + sweep * f
-        rr = r0 + (r1 - r0) * f
-        q = p0 + (p1 - p0) * f  # helix axis and other axes move linearly
-        q = q.copy()
-        q[i0] = c[0] + rr * math.cos(a)
-        q[i1] = c[1] + rr * math.sin(a)
-        out.append(q)
-    return out
+    """The arc's inner points, chord error under 1e-4 mm (geometry: time_lower_bound.arc_geometry)."""
+    geo = time_lower_bound.arc_geometry(list(p0), m)
+    r = max(geo[3])
+    n = max(8, int(abs(geo[5]) / (2 * math.acos(max(-1.0, 1 - 1e-4 / max(r, 1e-9))))) + 1)
+    return [np.array(time_lower_bound.arc_at(list(p0), geo, k / n)) for k in range(1, n)]
 
 
 def path_deviation(path, pos, near_mm=1.0):
@@ -217,6 +198,8 @@ def main():
         name = os.path.splitext(os.path.basename(prog))[0]
         path, rests = program_path(exe, prog)
         res = {"program": name}
+        res["bound_s"] = sum(time_lower_bound.section_bound(p, f, t if t > 0 else 1e-9, sg, args.vel, args.acc, 20.0, 0.5)
+                             for p, f, t, sg in time_lower_bound.sections_of(time_lower_bound.load_moves(exe, prog), args.tol))
         runs = []
         if not args.no_lcnc:
             csv = os.path.join(args.work, name + ".lcnc.csv")
@@ -237,7 +220,7 @@ def main():
 
     print(f"\nvel {args.vel} mm/s, acc {args.acc} mm/s^2 per axis; G64 P{args.tol} unless the program sets one; "
           f"softmc jerk run: {args.jerk} mm/s^3")
-    hdr = f"{'program':<12} {'LinuxCNC s':>10} {'softmc s':>9} {'ratio':>6} {'jerk s':>8} " \
+    hdr = f"{'program':<12} {'LinuxCNC s':>10} {'softmc s':>9} {'ratio':>6} {'bound s':>8} {'bound/L':>7} {'jerk s':>8} " \
           f"{'viol v,a L/s/j':>20} {'jerk viol j':>11} {'dev mm L/s/j':>20} {'end dev mm L/s/j':>23}"
     print(hdr)
     print("-" * len(hdr))
@@ -245,15 +228,18 @@ def main():
         l, s, j = r.get("lcnc"), r["trap"], r["jerk"]
         lt = f"{l['time_s']:.3f}" if l else "-"
         ratio = f"{s['time_s'] / l['time_s']:.3f}" if l else "-"
+        bratio = f"{r['bound_s'] / l['time_s']:.3f}" if l else "-"
         viol = "/".join(f"{x['v_viol']},{x['a_viol']}" if x else "-" for x in (l, s, j))
         dev = "/".join(f"{x['dev_mm']:.3f}" if x else "-" for x in (l, s, j))
         rdev = "/".join(f"{x['rest_dev_mm']:.1e}" if x else "-" for x in (l, s, j))
-        print(f"{r['program']:<12} {lt:>10} {s['time_s']:>9.3f} {ratio:>6} {j['time_s']:>8.3f} {viol:>20} "
+        print(f"{r['program']:<12} {lt:>10} {s['time_s']:>9.3f} {ratio:>6} {r['bound_s']:>8.3f} {bratio:>7} "
+              f"{j['time_s']:>8.3f} {viol:>20} "
               f"{j['j_viol']:>11} {dev:>20} {rdev:>23}")
     print("viol v,a: samples over a speed limit, over an acceleration limit; jerk viol: samples of the jerk run "
           "over its jerk limit (third difference); dev: largest distance from the programmed path; "
           "end dev: largest distance of a programmed stop point from the trace (L = LinuxCNC, s = softmc, "
-          "j = softmc with jerk limit)")
+          "j = softmc with jerk limit); bound: the least time of any planner within these axis limits, the "
+          "feed and P (bench/time_lower_bound.py, no jerk limit), and its ratio to LinuxCNC's time")
 
 
 if __name__ == "__main__":

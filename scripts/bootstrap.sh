@@ -8,6 +8,7 @@ pkgs=(
   libtomlplusplus-dev libcli11-dev libfmt-dev libspdlog-dev nlohmann-json3-dev
   libcairo2-dev libsqlite3-dev libmodbus-dev libboost-dev libeigen3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  python3-numpy
 )
 
 missing=()
