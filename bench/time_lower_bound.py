@@ -9,9 +9,10 @@ per-axis speed and acceleration limits (no jerk limit: the trapezoid case of iss
 The program's geometry comes from `softmc moves` (lines and arcs; the canonical moves, so the
 G-code is read by softmc's interpreter). What is assumed of a planner, and nothing else
 (docs/planner.md, "A lower bound on any planner's time"):
-  1. Each axis keeps |v| <= vel and |a| <= acc. The path speed keeps to the programmed feed
-     (override 100 %), where a blend may carry the higher feed of a neighbouring move over the
-     half of a move next to it.
+  1. Each axis keeps |v| <= vel and |a| <= acc. The path speed keeps to the feed of the program
+     point it is matched to in 2 (override 100 %), or to a neighbouring move's higher feed on the
+     half of a move next to it (a blend's). --ignore-feed drops this part: the bound then rests
+     on the axes' limits alone.
   2. The path follows the program in order within P: each programmed point p is passed within P
      at a time t(p) that does not decrease along the program (a Frechet matching), and between
      two such times the path stays within P of the program between the two points.
@@ -99,12 +100,16 @@ def arc_at(pos, geo, f):
 
 
 def arc_points(pos, m):
-    """Samples of an arc move at most STEP apart: (points after pos, end, step, least radius)."""
+    """Samples of an arc move at most STEP apart: (points after pos, end, sag). sag bounds how far
+    the arc passes beyond the chord between two samples (r + 2|dr/dtheta|)*dtheta^2/8 (a spiral's
+    radius changes with its angle)."""
     geo = arc_geometry(pos, m)
     end, axes, _, (r0, r1), _, sweep = geo
     length = math.hypot(abs(sweep) * max(r0, r1), end[axes[2]] - pos[axes[2]])
     n = max(2, math.ceil(length / STEP))
-    return [arc_at(pos, geo, k / n) for k in range(1, n + 1)], end, abs(sweep) * max(r0, r1) / n, min(r0, r1)
+    dth = abs(sweep) / n
+    sag = (max(r0, r1) + 2 * abs(r1 - r0) / abs(sweep)) * dth * dth / 8 * 1.01
+    return [arc_at(pos, geo, k / n) for k in range(1, n + 1)], end, sag
 
 
 def sections_of(moves, default_tol):
@@ -146,9 +151,8 @@ def sections_of(moves, default_tol):
             pts, move, half = [pos[:]], [0], [1]
             feed_of = [0.0]  # the start: no move, no blend
         if t == 'arc':
-            new, end, step, r = arc_points(pos, m)
-            # An arc's extreme lies at most step^2/(8r) beyond its samples (r its least radius).
-            sag = max(sag, step * step / (8 * r) * 1.01 if r > 0 else step)
+            new, end, arc_sag = arc_points(pos, m)
+            sag = max(sag, arc_sag)
         else:
             end = [m['end'].get(a, pos[i]) for i, a in enumerate(AXES)]
             n = max(1, math.ceil(math.dist(pos, end) / STEP))
@@ -208,9 +212,10 @@ def turn_room(xs, p, sag=0.0):
     along the stretch is bounded by the room to the highest point ahead (the path turns near b:
     the program falls by more than 2P after it, or b is the end at rest) and from the lowest point
     behind (it turned near a, or a is the start at rest); a speed against the stretch by the room
-    to the lowest point ahead before the path must rise again (within 2P of b's height: the next
-    turning point beyond b, or the end). Each room gets 2P: x(t_k) is within P of x_k and the real
-    turning points within P of the program's. Falling stretches alike, mirrored."""
+    to the lowest point ahead before the path must rise again (within 2P of b's height: the lowest
+    point up to the next turning point beyond b, or to the end). Each room gets 2P: x(t_k) is
+    within P of x_k and the real turning points within P of the program's. Falling stretches
+    alike, mirrored."""
     n = len(xs)
     ext = zigzag(xs, 2 * p)
     room = [math.inf] * n
@@ -219,10 +224,11 @@ def turn_room(xs, p, sag=0.0):
         a, b = ext[s], ext[s + 1]
         sign = 1.0 if xs[b] >= xs[a] else -1.0
         y = [sign * xs[k] for k in range(a, b + 1)]
-        if s + 2 < len(ext):
-            beyond = sign * xs[ext[s + 2]]
-        else:
-            beyond = min(sign * xs[k] for k in range(b, n))
+        # The lowest point from b to the turning point after it (or the end): the path turns there
+        # at the latest (a confirmed rise, the end at rest, or the last candidate, after which the
+        # program stays above it up to the end at rest).
+        c = ext[s + 2] if s + 2 < len(ext) else n - 1
+        beyond = min(sign * xs[k] for k in range(b, c + 1))
         m = len(y)
         sufmin, sufmax = [0.0] * m, [0.0] * m
         lo, hi = math.inf, -math.inf
@@ -481,6 +487,8 @@ def main():
     ap.add_argument('--gate', type=float, default=0.5, help='gate spacing, mm of path')
     ap.add_argument('--compare', nargs='*', type=float, default=[],
                     help="a time per program (s), e.g. LinuxCNC's: prints bound/time")
+    ap.add_argument('--ignore-feed', action='store_true',
+                    help='assume nothing of the path speed (the bound from the axis limits and P alone)')
     ap.add_argument('--check', action='store_true', help='check the bound on programs whose least time is known')
     ap.add_argument('--fuzz', type=int, default=0, metavar='N',
                     help="N random programs: the bound must stay below softmc's own time on each")
@@ -493,6 +501,8 @@ def main():
         sys.exit(1 if bad else 0)
     for k, prog in enumerate(a.programs):
         secs = sections_of(load_moves(binary, prog), a.tol)
+        if a.ignore_feed:
+            secs = [(p, [math.inf] * len(f), t, sg) for p, f, t, sg in secs]
         total = sum(section_bound(p, f, t if t > 0 else 1e-9, sg, a.vel, a.acc, a.window, a.gate) for p, f, t, sg in secs)
         line = f"{prog.split('/')[-1]:<24} sections {len(secs):3d}  lower bound {total:8.3f} s"
         if k < len(a.compare):
