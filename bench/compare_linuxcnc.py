@@ -198,8 +198,7 @@ def main():
         name = os.path.splitext(os.path.basename(prog))[0]
         path, rests = program_path(exe, prog)
         res = {"program": name}
-        res["bound_s"] = sum(time_lower_bound.section_bound(p, f, t if t > 0 else 1e-9, sg, args.vel, args.acc, 20.0, 0.5)
-                             for p, f, t, sg in time_lower_bound.sections_of(time_lower_bound.load_moves(exe, prog), args.tol))
+        res["bound_s"] = time_lower_bound.program_bound(exe, prog, args.vel, args.acc, args.tol)[0]
         runs = []
         if not args.no_lcnc:
             csv = os.path.join(args.work, name + ".lcnc.csv")

@@ -207,7 +207,7 @@ def zigzag(xs, h):
 
 
 def turn_room(xs, p, sag=0.0):
-    """For each sample k, r_k (mm) with |v(t_k)|^2 <= 2*acc*r_k for this axis whatever the planner
+    """(rooms, the turning points' indices). For each sample k, r_k (mm) with |v(t_k)|^2 <= 2*acc*r_k for this axis whatever the planner
     (the module's docstring). In a stretch rising from turning point a to turning point b, a speed
     along the stretch is bounded by the room to the highest point ahead (the path turns near b:
     the program falls by more than 2P after it, or b is the end at rest) and from the lowest point
@@ -219,7 +219,6 @@ def turn_room(xs, p, sag=0.0):
     n = len(xs)
     ext = zigzag(xs, 2 * p)
     room = [math.inf] * n
-    turn_room.ext = ext
     for s in range(len(ext) - 1):
         a, b = ext[s], ext[s + 1]
         sign = 1.0 if xs[b] >= xs[a] else -1.0
@@ -242,7 +241,7 @@ def turn_room(xs, p, sag=0.0):
             against = yk - (sufmin[k] if y[-1] - yk > 2 * p else min(sufmin[k], beyond))
             i = a + k
             room[i] = min(room[i], max(along, against) + 2 * p + sag)
-    return room
+    return room, ext
 
 
 def t_1d(dist, b0, b1, vmax, acc):
@@ -267,8 +266,9 @@ def section_bound(pts, feeds, tol, sag, vel, acc, window_mm, gate_mm):
     n = len(pts)
     rooms, turns = [], set()
     for i in range(3):
-        rooms.append(turn_room([q[i] for q in pts], tol, sag))
-        turns.update(turn_room.ext)
+        room, ext = turn_room([q[i] for q in pts], tol, sag)
+        rooms.append(room)
+        turns.update(ext)
     # Gates: every gate_mm of path, every axis's turning points, the ends.
     s, gates, last = 0.0, [0], 0.0
     arc = [0.0] * n
@@ -287,7 +287,7 @@ def section_bound(pts, feeds, tol, sag, vel, acc, window_mm, gate_mm):
     speed = np.where(margin[:, None] > 0, np.minimum(vel, np.sqrt(2 * acc * room)), 0.0)
     feeds = np.asarray(feeds)
     # The highest feed on each gate's stretch from the gate before it (its own samples included),
-    # and a sparse table of its range maxima: most(a, b) = max of fstretch[a+1 .. b], a < b.
+    # and a sparse table of its range maxima for cap().
     fstretch = np.array([feeds[gates[j - 1]:gates[j] + 1].max() if j > 0 else feeds[0] for j in range(m)])
     table = [fstretch]
     while 2 ** len(table) <= m:
@@ -295,7 +295,8 @@ def section_bound(pts, feeds, tol, sag, vel, acc, window_mm, gate_mm):
         prev = table[-1]
         table.append(np.maximum(prev[:-h], prev[h:]))
 
-    def most(a, b):
+    def cap(a, b):
+        """The feed bounding the path between gates a < b (arrays): the highest on their samples."""
         lo, hi = a + 1, b
         lvl = np.floor(np.log2(hi - lo + 1)).astype(int)
         out = np.empty(len(lo))
@@ -303,7 +304,7 @@ def section_bound(pts, feeds, tol, sag, vel, acc, window_mm, gate_mm):
             sel = lvl == L
             t = table[L]
             out[sel] = np.maximum(t[lo[sel]], t[hi[sel] - 2 ** L + 1])
-        return out
+        return np.maximum(out, feeds[g[a]])
 
     def legs(i, k, fcap):
         """Least time between gates i and k (arrays), fcap the feed that bounds the path there."""
@@ -330,11 +331,9 @@ def section_bound(pts, feeds, tol, sag, vel, acc, window_mm, gate_mm):
         pi, pj, pk = pos[i][:, None, :], pos[j][:, None, :], pos[k][:, None, :]
         # |rho*p_k - p_j + (1 - rho)*p_i| is |linear in rho|: its least value on a cell is at an
         # end, or 0 where it changes sign within.
-        fa = np.abs(ra[None, :, None] * pk - pj + (1 - ra[None, :, None]) * pi)
-        fb = np.abs(rb[None, :, None] * pk - pj + (1 - rb[None, :, None]) * pi)
         va = ra[None, :, None] * pk - pj + (1 - ra[None, :, None]) * pi
         vb = rb[None, :, None] * pk - pj + (1 - rb[None, :, None]) * pi
-        lo = np.where(va * vb <= 0, 0.0, np.minimum(fa, fb))
+        lo = np.where(va * vb <= 0, 0.0, np.minimum(np.abs(va), np.abs(vb)))
         # Each r within its margin of the point: rho*m_k + m_j + (1 - rho)*m_i <= m_j + max(m_i, m_k).
         mg = (margin[j] + np.maximum(margin[i], margin[k]))[:, None, None]
         need = np.maximum(lo - mg, 0.0).max(axis=2)          # worst axis, pairs x cells
@@ -349,22 +348,31 @@ def section_bound(pts, feeds, tol, sag, vel, acc, window_mm, gate_mm):
         lo_i = max(0, int(np.searchsorted(at, at[k] - window_mm, side='left')))
         lo_i = min(lo_i, k - 1)
         i = np.arange(lo_i, k)
-        fcap = np.maximum.accumulate(fstretch[lo_i + 1:k + 1][::-1])[::-1]  # stretches i+1 .. k
-        fcap = np.maximum(fcap, feeds[g[i]])
-        top = best[i] + legs(i, np.full_like(i, k), fcap)
+        kk = np.full_like(i, k)
+        top = best[i] + legs(i, kk, cap(i, kk))
         # Pairs with their middle gate halfway along the path.
         sel = i[i <= k - 2]
         if len(sel):
             j = np.searchsorted(at, (at[sel] + at[k]) / 2)
             j = np.clip(j, sel + 1, k - 1)
-            f1 = np.maximum(most(sel, j), feeds[g[sel]])
-            f2 = np.maximum(most(j, np.full_like(j, k)), feeds[g[j]])
-            t1 = legs(sel, j, f1)
-            t2 = legs(j, np.full_like(j, k), f2)
-            s2 = pairs(sel, j, np.full_like(sel, k), t1, t2)
+            kk = np.full_like(sel, k)
+            t1 = legs(sel, j, cap(sel, j))
+            t2 = legs(j, kk, cap(j, kk))
+            s2 = pairs(sel, j, kk, t1, t2)
             top[:len(sel)] = np.maximum(top[:len(sel)], best[sel] + s2)
         best[k] = top.max()
     return float(best[-1])
+
+
+def program_bound(binary, program, vel=100.0, acc=1000.0, tol=0.05, window_mm=20.0, gate_mm=0.5, ignore_feed=False):
+    """(the least time of the whole program, its number of sections); tol is P where the program
+    sets none (G61: a hair, 1e-9 mm)."""
+    secs = sections_of(load_moves(binary, program), tol)
+    total = 0.0
+    for p, f, t, sg in secs:
+        feeds = [math.inf] * len(f) if ignore_feed else f
+        total += section_bound(p, feeds, t if t > 0 else 1e-9, sg, vel, acc, window_mm, gate_mm)
+    return total, len(secs)
 
 
 # Programs whose least time is known in closed form (every axis 100 mm/s, 1000 mm/s^2): the bound
@@ -388,8 +396,7 @@ def self_check(binary):
             path = os.path.join(d, 'check.ngc')
             with open(path, 'w') as f:
                 f.write(text)
-            secs = sections_of(load_moves(binary, path), 0.05)
-            got = sum(section_bound(p, fd, t if t > 0 else 1e-9, sg, 100.0, 1000.0, 20.0, 0.5) for p, fd, t, sg in secs)
+            got = program_bound(binary, path)[0]
             ok = got <= best + 1e-9 and got >= 0.95 * best
             bad += not ok
             print(f"{'ok ' if ok else 'BAD'} {name:<28} bound {got:.4f} s, least time {best:.4f} s ({got / best:.3f})")
@@ -462,8 +469,7 @@ def fuzz(binary, n, seed):
             if r.returncode != 0:
                 continue  # a program the machine refuses (travel, arcs): nothing to compare
             run = json.loads(r.stdout)
-            got = sum(section_bound(p, fd, t if t > 0 else 1e-9, sg, 100.0, 1000.0, 20.0, 0.5)
-                      for p, fd, t, sg in sections_of(load_moves(binary, path), 0.05))
+            got = program_bound(binary, path)[0]
             ratio = got / run['cycle_time_s'] if run['cycle_time_s'] > 0 else 0
             worst = max(worst, ratio)
             if got > run['cycle_time_s'] + 2 * run['period_s']:
@@ -500,11 +506,8 @@ def main():
         bad += fuzz(binary, a.fuzz, a.seed) if a.fuzz else 0
         sys.exit(1 if bad else 0)
     for k, prog in enumerate(a.programs):
-        secs = sections_of(load_moves(binary, prog), a.tol)
-        if a.ignore_feed:
-            secs = [(p, [math.inf] * len(f), t, sg) for p, f, t, sg in secs]
-        total = sum(section_bound(p, f, t if t > 0 else 1e-9, sg, a.vel, a.acc, a.window, a.gate) for p, f, t, sg in secs)
-        line = f"{prog.split('/')[-1]:<24} sections {len(secs):3d}  lower bound {total:8.3f} s"
+        total, nsec = program_bound(binary, prog, a.vel, a.acc, a.tol, a.window, a.gate, a.ignore_feed)
+        line = f"{prog.split('/')[-1]:<24} sections {nsec:3d}  lower bound {total:8.3f} s"
         if k < len(a.compare):
             line += f"  against {a.compare[k]:.3f} s: {total / a.compare[k]:.3f}"
         print(line, flush=True)
